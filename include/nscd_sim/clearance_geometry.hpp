@@ -1,0 +1,29 @@
+// Geometry of the revolute joint with clearance: bearing ring vs journal cylinder
+// (radial contacts) and face bumps vs journal flange planes (axial contacts).
+#pragma once
+
+#include "nscd_sim/contact_geometry.hpp"
+
+namespace nscd {
+
+constexpr int kMaxBumps = 8;
+constexpr int kMaxClearancePoints = 2 + 2 * kMaxBumps;
+
+// Gap between a bearing ring (circle: centre c, unit normal n, radius R) and a
+// journal cylinder (axis through o with unit direction a, radius rj), all world.
+// gap = min over the ring of (distance to the journal axis) - rj.
+// Result as a ContactPoint with A = bearing (point_a on the ring), B = journal
+// (point_b on the cylinder surface), normal from the journal axis to the ring point.
+// phi (in/out) is the ring angle of the minimiser, measured from the unit vector
+// e1 (orthogonal to n) about n; pass the previous value as a hint, or NaN.
+ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, double R,
+                                const Vec3& o, const Vec3& a, double rj, double& phi);
+
+// Contact points of one clearance joint: up to 2 radial + 2*bumps axial points
+// with gap below margin. A = bearing body, B = journal body. Features: 0,1 radial
+// (ring at -L/2, +L/2); 2.. axial bumps. bearing/journal: world poses of the two
+// body frames. phi_hint: 2 ring angles (in/out). out must hold kMaxClearancePoints.
+int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose& journal,
+                      double margin, bool planar, double* phi_hint, ContactPoint* out);
+
+}  // namespace nscd

@@ -1,0 +1,68 @@
+// The one-step nonsmooth problem: find impulses P and local velocities
+// U = W P + b such that, block by block,
+//   - Bilateral (size k rows): U = 0, P free;
+//   - Frictionless (1 row: normal): 0 <= U_N  _|_  P_N >= 0;
+//   - Frictional (3 rows: normal, tangent 1, tangent 2): Coulomb's law with
+//     coefficient mu (equivalently the SOCCP K* ∋ U + mu|U_T| e_N  _|_  P ∈ K).
+// b already holds the restitution term of the Newton impact law.
+// Solved by nonsmooth Gauss-Seidel (NSGS) over the blocks with an exact local
+// solver per block, warm-started from the P passed in.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace nscd {
+
+enum class BlockKind { Bilateral, Frictionless, Frictional };
+
+struct ProblemBlock {
+  BlockKind kind = BlockKind::Frictional;
+  int row = 0;    // first row in W, b, P
+  int size = 3;   // 1 for Frictionless, 3 for Frictional, 1..6 for Bilateral
+  double mu = 0;  // Frictional only
+};
+
+struct SolverOptions {
+  double tolerance = 1e-8;   // on the normalised error (see solverError)
+  int max_iterations = 200;  // NSGS sweeps
+};
+
+struct SolverReport {
+  int iterations = 0;
+  double residual = 0;  // solverError at exit
+  bool converged = false;
+};
+
+// Siconos-style error: sqrt(sum over blocks of |P - proj_K(P - Uhat)|^2
+// (+ |U|^2 for bilateral rows)) / max(1, |b|).
+double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
+                   const Eigen::Ref<const Eigen::VectorXd>& b,
+                   const Eigen::Ref<const Eigen::VectorXd>& P,
+                   const std::vector<ProblemBlock>& blocks);
+
+// Reusable solver: keeps its workspace between calls (no allocation once warm,
+// as long as the problem does not grow).
+class FrictionContactSolver {
+ public:
+  // W: m x m symmetric positive semidefinite Delassus operator (only the top-left
+  // m x m part of the matrices passed is read). P: in = warm start, out = solution.
+  SolverReport solve(const Eigen::Ref<const Eigen::MatrixXd>& W,
+                     const Eigen::Ref<const Eigen::VectorXd>& b,
+                     const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
+                     Eigen::Ref<Eigen::VectorXd> P);
+
+ private:
+  Eigen::VectorXd U_;      // running local velocities
+  Eigen::MatrixXd blockInv_;  // per-bilateral-block inverses (packed), reserved
+};
+
+// The exact local problem of one frictional contact:
+// U = Wloc P + bloc, Coulomb's law with mu. Alart-Curnier semismooth Newton with a
+// line search, a projection fixed point as fallback. Returns false if neither
+// reached `tol` (P then holds the best iterate found).
+bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
+                          double tol, Eigen::Vector3d& P);
+
+}  // namespace nscd

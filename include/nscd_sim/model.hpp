@@ -1,0 +1,182 @@
+// The immutable description of a mechanism: what the scene loader produces and
+// every stage of a time step reads. Flat structs, indices instead of pointers.
+//
+// Frames. Every free body has a body frame at its centre of mass (the URDF
+// <inertial><origin>, including its rpy). All attachment data below (joint
+// anchors and axes, shapes, spring ends, actuator points) is already expressed
+// in that body frame; for ground (body == kGround) it is expressed in the world
+// frame (the frame of the URDF root link).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nscd_sim/types.hpp"
+
+namespace nscd {
+
+constexpr int kGround = -1;
+
+// Where a bad-input message points: "FILE:LINE: what".
+struct SourceRef {
+  std::string file;
+  int line = 0;
+};
+
+struct Body {
+  std::string name;            // the URDF link carrying the inertia
+  double mass = 0;
+  Mat3 inertia = Mat3::Identity();  // about the centre of mass, body axes
+  Pose initial_pose;           // body frame in world, at the start
+  Vec3 initial_velocity = Vec3::Zero();          // world frame, of the centre of mass
+  Vec3 initial_angular_velocity = Vec3::Zero();  // world frame
+};
+
+// Every URDF link, so that tf can publish each one.
+struct Link {
+  std::string name;
+  int body = kGround;  // body the link rides on (kGround for ground links)
+  Pose in_body;        // link frame in the body frame (in world if ground)
+};
+
+enum class JointType { Revolute, Prismatic, Fixed };
+
+// An ideal (bilateral) joint, or the kinematic pair a clearance joint replaces.
+// body_a is the URDF parent, body_b the child. The joint frame is the child link
+// frame (URDF convention); at joint position 0 anchor_a and anchor_b coincide and
+// the relative rotation q_a^-1 q_b equals rel_rot_zero.
+struct Joint {
+  std::string name;
+  JointType type = JointType::Revolute;
+  int body_a = kGround;
+  int body_b = kGround;
+  Vec3 anchor_a = Vec3::Zero();  // joint origin, body_a frame
+  Vec3 anchor_b = Vec3::Zero();  // joint origin, body_b frame
+  Vec3 axis_a = Vec3::UnitZ();   // unit joint axis, body_a frame
+  Vec3 axis_b = Vec3::UnitZ();   // the same axis, body_b frame
+  Quat rel_rot_zero = Quat::Identity();  // q_a^-1 * q_b at joint position 0
+  bool loop = false;        // declared as <nscd><joint> (loop closure)
+  int clearance = -1;       // index into Model::clearance_joints, -1 if ideal
+  SourceRef src;
+};
+
+// A revolute joint with radial and axial clearance (scene-format.md).
+// The journal body carries the pin, the bearing body the hole; both are centred
+// on the joint frame along the joint axis.
+struct ClearanceJoint {
+  std::string name;     // the joint's name
+  int joint = -1;       // index into Model::joints
+  int journal_body = kGround;
+  int bearing_body = kGround;
+  Vec3 journal_center = Vec3::Zero();  // joint origin, journal body frame
+  Vec3 journal_axis = Vec3::UnitZ();   // journal body frame
+  Vec3 bearing_center = Vec3::Zero();  // joint origin, bearing body frame
+  Vec3 bearing_axis = Vec3::UnitZ();   // bearing body frame
+  Vec3 bearing_ref = Vec3::UnitX();    // unit, orthogonal to bearing_axis: angle origin
+  double radius = 0;         // journal radius r_j
+  double radial = 0;         // radial clearance c_r
+  double length = 0;         // bearing length L
+  double axial = 0;          // total axial play c_a
+  int bumps = 3;             // per bearing face
+  double bump_radius = 0;    // section radius of a bump
+  double bump_at = 0;        // pitch radius of the bumps
+  double mu = 0;
+  double e = 0;
+  SourceRef src;
+};
+
+enum class ShapeType { Sphere, Capsule, Cylinder, Box, Plane };
+
+// A contact shape fixed to a body. Its frame (pose, in the body frame) gives the
+// axis (z) of capsules and cylinders and the outward normal (+z) of planes.
+struct Shape {
+  ShapeType type = ShapeType::Sphere;
+  int body = kGround;
+  Pose pose;
+  double radius = 0;                    // sphere, capsule, cylinder
+  double length = 0;                    // capsule, cylinder (along z, centred)
+  Vec3 half_extents = Vec3::Zero();     // box
+};
+
+// A named <nscd><contact>: one shape pair, possibly several contact points.
+struct ContactPair {
+  std::string name;
+  Shape a;
+  Shape b;
+  double mu = 0;
+  double e = 0;
+  SourceRef src;
+};
+
+enum class SpringType { Linear, Torsion };
+
+struct Spring {
+  std::string name;
+  SpringType type = SpringType::Linear;
+  double stiffness = 0;
+  double rest = 0;       // rest length (m) or rest angle (rad)
+  double damping = 0;
+  int body_a = kGround;  // linear: first <end>; torsion: joint parent
+  int body_b = kGround;  // linear: second <end>; torsion: joint child
+  Vec3 end_a = Vec3::Zero();  // linear: attachment points, body frames
+  Vec3 end_b = Vec3::Zero();
+  int joint = -1;        // torsion: index into Model::joints
+  SourceRef src;
+};
+
+enum class ActuatorType { Position, Prescribed, Force };
+
+struct Actuator {
+  std::string name;
+  ActuatorType type = ActuatorType::Position;
+  int joint = -1;     // position; prescribed with joint=
+  int body = kGround; // prescribed with link=; force
+  Vec3 axis = Vec3::UnitX();       // prescribed link: unit direction, world frame
+  Vec3 point = Vec3::Zero();       // force: application point, body frame
+  Vec3 direction = Vec3::UnitX();  // force: unit direction, body frame
+  double kp = 0, kd = 0;
+  double max_effort = 0;           // 0 = unlimited
+  double initial_command = 0;
+  SourceRef src;
+};
+
+enum class PlanarMode { None, XY };
+
+struct Settings {
+  double dt = 1e-4;
+  double theta = 0.5;
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  double tolerance = 1e-8;          // friction-contact solver, normalised residual
+  int max_iterations = 200;         // solver sweeps
+  bool projection = true;           // combined projection after each step
+  double projection_tolerance = 1e-9;  // m (and rad for orientation rows)
+  int projection_max_iterations = 20;
+  double activation_gamma = 0.5;    // predicted gap g + gamma h u_N
+  PlanarMode planar = PlanarMode::None;
+};
+
+struct Model {
+  std::string source_file;
+  std::string world_frame = "world";  // name of the URDF root link
+  std::vector<Body> bodies;
+  std::vector<Link> links;
+  std::vector<Joint> joints;
+  std::vector<ClearanceJoint> clearance_joints;
+  std::vector<ContactPair> contacts;
+  std::vector<Spring> springs;
+  std::vector<Actuator> actuators;
+  Settings settings;
+
+  int findBody(const std::string& name) const {
+    for (size_t i = 0; i < bodies.size(); ++i)
+      if (bodies[i].name == name) return static_cast<int>(i);
+    return kGround - 1;  // not found
+  }
+  int findActuator(const std::string& name) const {
+    for (size_t i = 0; i < actuators.size(); ++i)
+      if (actuators[i].name == name) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+}  // namespace nscd

@@ -1,0 +1,46 @@
+// Scene file (URDF + <nscd> annotations) -> Model. See shared spec scene-format.md.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nscd_sim/model.hpp"
+
+namespace nscd {
+
+// Bad input: what() is the single line "FILE:LINE: what is wrong"
+// (LINE omitted when there is no line to point at, e.g. a missing file).
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A settings override "key=value" (from --set, YAML or ROS parameters).
+struct SettingOverride {
+  std::string key;
+  std::string value;
+  std::string origin;  // for messages, e.g. "--set" or "config.yaml"
+};
+
+// Loads and validates a scene. Throws SceneError; never returns a half-loaded model.
+// Overrides are applied after the <simulation> element, in order.
+Model loadScene(const std::string& path, const std::vector<SettingOverride>& overrides = {});
+
+// Same, from an in-memory URDF string (robot_description); `name` is used in messages.
+Model loadSceneFromString(const std::string& urdf_xml, const std::string& name,
+                          const std::vector<SettingOverride>& overrides = {});
+
+// Applies one override to settings; throws SceneError "ORIGIN: what" on an unknown
+// key or a bad value (dt <= 0, theta outside [0.5, 1], negative tolerance, NaN ...).
+void applySetting(Settings& settings, const SettingOverride& o);
+
+// Reads a flat YAML mapping of settings (key: value) into overrides.
+// Throws SceneError "FILE:LINE: what" on malformed YAML.
+std::vector<SettingOverride> readSettingsYaml(const std::string& path);
+
+// Names of the setting keys, for --help and error messages.
+const std::vector<std::string>& settingKeys();
+
+}  // namespace nscd

@@ -1,0 +1,55 @@
+#include "test_support.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace nscd_test {
+
+std::string sourceDir() { return NSCD_SOURCE_DIR; }
+std::string scenePath(const std::string& rel) { return sourceDir() + "/" + rel; }
+std::string runExe() { return NSCD_RUN_EXE; }
+
+static std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+RunResult runNscd(const std::string& args) {
+  char out_tmpl[] = "/tmp/nscd_test_outXXXXXX";
+  char err_tmpl[] = "/tmp/nscd_test_errXXXXXX";
+  int fo = mkstemp(out_tmpl);
+  int fe = mkstemp(err_tmpl);
+  if (fo < 0 || fe < 0) throw std::runtime_error("mkstemp failed");
+  close(fo);
+  close(fe);
+  std::string cmd = runExe() + " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
+  int rc = std::system(cmd.c_str());
+  RunResult r;
+  r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  r.out = slurp(out_tmpl);
+  r.err = slurp(err_tmpl);
+  std::remove(out_tmpl);
+  std::remove(err_tmpl);
+  return r;
+}
+
+std::string writeTemp(const std::string& text, const std::string& suffix) {
+  std::string tmpl = "/tmp/nscd_test_XXXXXX" + suffix;
+  std::string buf = tmpl;
+  int fd = mkstemps(&buf[0], static_cast<int>(suffix.size()));
+  if (fd < 0) throw std::runtime_error("mkstemps failed");
+  ssize_t n = write(fd, text.data(), text.size());
+  close(fd);
+  if (n != static_cast<ssize_t>(text.size())) throw std::runtime_error("short write");
+  return buf;
+}
+
+}  // namespace nscd_test

@@ -1,0 +1,23 @@
+// Helpers shared by the unit tests: paths, running nscd_run, temporary files.
+#pragma once
+
+#include <string>
+
+namespace nscd_test {
+
+std::string sourceDir();                 // the package source directory
+std::string scenePath(const std::string& rel);  // sourceDir()/rel
+std::string runExe();                    // path of the built nscd_run
+
+struct RunResult {
+  int status = -1;   // exit status
+  std::string out;   // stdout
+  std::string err;   // stderr
+};
+// Runs nscd_run with the given argument string (shell-quoted by the caller).
+RunResult runNscd(const std::string& args);
+
+// Writes text to a fresh temporary file with the given suffix; returns its path.
+std::string writeTemp(const std::string& text, const std::string& suffix = ".urdf");
+
+}  // namespace nscd_test
