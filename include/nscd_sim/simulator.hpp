@@ -1,0 +1,117 @@
+// The engine's front door: owns a Model, the State and the step workspace.
+// nscd_run, the ROS node, the benchmarks and the tests all drive this class.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nscd_sim/model.hpp"
+
+namespace nscd {
+
+struct BodyState {
+  Vec3 x = Vec3::Zero();  // centre of mass, world
+  Quat q = Quat::Identity();  // body frame -> world
+  Vec3 v = Vec3::Zero();  // linear velocity, world
+  Vec3 w = Vec3::Zero();  // angular velocity, BODY frame
+};
+
+struct State {
+  double t = 0;
+  std::vector<BodyState> bodies;
+};
+
+// One active contact point after a step (what the node and the CSV report).
+struct ContactReport {
+  int source = 0;        // index into Model::contacts, or clearance joint index
+  bool clearance = false;  // true: source is a clearance joint
+  int feature = 0;       // point within the pair / joint
+  int body_a = kGround, body_b = kGround;
+  Vec3 point = Vec3::Zero();   // world, on B's surface
+  Vec3 normal = Vec3::UnitZ(); // world, from B towards A
+  double gap = 0;        // at the end of the step, m
+  double fn = 0;         // normal force (impulse / h), N
+  Vec3 ft = Vec3::Zero();  // tangential force on A, world, N
+  bool sliding = false;
+};
+
+struct StepStats {
+  int iterations = 0;
+  double residual = 0;
+  bool converged = true;
+  int active_contacts = 0;
+  int rows = 0;
+  int projection_passes = 0;
+  double max_penetration = 0;  // largest (positive) penetration at the end of the step
+};
+
+enum class StepStatus { Ok, NotConverged, NonFinite };
+
+struct EnergyReport {
+  double kinetic = 0;
+  double gravity = 0;   // potential, relative to the world origin
+  double springs = 0;   // elastic potential
+  double total() const { return kinetic + gravity + springs; }
+};
+
+class StepWorkspace;  // preallocated buffers of the pipeline (step_workspace.hpp)
+
+class Simulator {
+ public:
+  // Takes the model, places the bodies, runs the assembly projection of the
+  // bilateral constraints. Throws std::runtime_error if assembly fails.
+  explicit Simulator(Model model);
+  ~Simulator();
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+
+  const Model& model() const { return model_; }
+  const State& state() const { return state_; }
+
+  // One time step of length model().settings.dt.
+  StepStatus step();
+  // Back to the initial state (after assembly); commands back to their initial values.
+  void reset();
+
+  // Actuator inputs. setCommand ignores non-finite values and returns false.
+  bool setCommand(int actuator, double value);
+  double command(int actuator) const { return commands_[actuator]; }
+  // Effort of each actuator during the last step (N or N m).
+  double actuatorEffort(int actuator) const;
+  // Force (N or N m) in each spring, positive in tension / positive torque.
+  double springForce(int spring) const;
+
+  const StepStats& stats() const;
+  const std::vector<ContactReport>& contacts() const;  // active contacts of the last step
+  EnergyReport energy() const;
+
+  // World pose of a body frame (centre of mass) and of any URDF link.
+  Pose bodyPose(int body) const;
+  Pose linkPose(int link) const;
+  // Angular velocity of a body in the world frame.
+  Vec3 angularVelocityWorld(int body) const;
+
+  // Per clearance joint: eccentricity / c_r at mid-bearing, its direction (rad,
+  // in the bearing frame), and the summed normal force of its contacts.
+  double clearanceEccentricity(int cj) const;
+  double clearanceEccentricityAngle(int cj) const;
+  double clearanceNormalForce(int cj) const;
+  // Per named contact: smallest gap (m), summed normal force and |summed tangential force|.
+  double contactGap(int pair) const;
+  double contactNormalForce(int pair) const;
+  double contactTangentialForce(int pair) const;
+
+  // Largest constraint violation of the current state: negative gaps of all
+  // candidate contacts (as a positive length) and bilateral position errors.
+  double constraintViolation() const;
+
+ private:
+  Model model_;
+  State state_;
+  State initial_state_;
+  std::vector<double> commands_;
+  std::unique_ptr<StepWorkspace> ws_;
+};
+
+}  // namespace nscd
