@@ -56,6 +56,8 @@ class FrictionContactSolver {
  private:
   Eigen::VectorXd U_;      // running local velocities
   Eigen::MatrixXd blockInv_;  // per-bilateral-block inverses (packed), reserved
+  int maxRows_ = 0;           // largest m seen (workspace size)
+  int maxBilateral_ = 0;      // largest bilateral block count seen
 };
 
 // The exact local problem of one frictional contact:
@@ -64,5 +66,22 @@ class FrictionContactSolver {
 // reached `tol` (P then holds the best iterate found).
 bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
                           double tol, Eigen::Vector3d& P);
+
+// Which stage of solveLocalFrictional produced the answer (for statistics/tests).
+enum class LocalStage { TakeOff, Frictionless, Stick, Newton, FixedPoint, SlipAngle, Failed };
+struct LocalSolveInfo {
+  LocalStage stage = LocalStage::Failed;
+  int newton_iterations = 0;
+  double error = 0;  // localCoulombError at exit (absolute)
+};
+// Same as above, also reporting the stage that succeeded (info may be null).
+bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
+                          double tol, Eigen::Vector3d& P, LocalSolveInfo* info);
+
+// Projection onto K = {x : |x_T| <= mu x_N} (row 0 normal, rows 1-2 tangential).
+Eigen::Vector3d projectFrictionCone(const Eigen::Vector3d& x, double mu);
+
+// |P - proj_K(P - Uhat)| with Uhat = U + mu|U_T| e_N: zero iff (U, P) obey Coulomb's law.
+double localCoulombError(const Eigen::Vector3d& P, const Eigen::Vector3d& U, double mu);
 
 }  // namespace nscd

@@ -111,6 +111,8 @@ class Simulator {
   State state_;
   State initial_state_;
   std::vector<double> commands_;
+  std::vector<double> prev_commands_;  // commands of the previous step (prescribed rates)
+  std::vector<Vec3> pair_ft_vec_;      // summed tangential force per contact pair
   std::unique_ptr<StepWorkspace> ws_;
 };
 

@@ -1,0 +1,61 @@
+// Piecewise-linear command schedules for headless runs.
+#include "nscd_sim/command_schedule.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace nscd {
+
+double CommandSchedule::value(double t) const {
+  if (points.empty()) return 0;
+  if (t <= points.front().first) return points.front().second;
+  for (size_t i = 1; i < points.size(); ++i) {
+    if (t <= points[i].first) {
+      const auto& a = points[i - 1];
+      const auto& b = points[i];
+      const double span = b.first - a.first;
+      if (span <= 0) return b.second;
+      return a.second + (b.second - a.second) * (t - a.first) / span;
+    }
+  }
+  return points.back().second;
+}
+
+namespace {
+double parseNumber(const std::string& s, const std::string& whole) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
+    throw std::invalid_argument("--command " + whole + ": '" + s + "' is not a finite number");
+  return v;
+}
+}  // namespace
+
+CommandSchedule parseCommandSchedule(const std::string& text) {
+  CommandSchedule sch;
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw std::invalid_argument("--command " + text + ": expected NAME=t0:v0,t1:v1,...");
+  sch.actuator = text.substr(0, eq);
+  std::string rest = text.substr(eq + 1);
+  if (rest.empty()) throw std::invalid_argument("--command " + text + ": no time:value pairs");
+  size_t pos = 0;
+  while (pos <= rest.size()) {
+    size_t comma = rest.find(',', pos);
+    if (comma == std::string::npos) comma = rest.size();
+    const std::string item = rest.substr(pos, comma - pos);
+    const size_t colon = item.find(':');
+    if (colon == std::string::npos)
+      throw std::invalid_argument("--command " + text + ": '" + item + "' is not time:value");
+    const double t = parseNumber(item.substr(0, colon), text);
+    const double v = parseNumber(item.substr(colon + 1), text);
+    if (!sch.points.empty() && t < sch.points.back().first)
+      throw std::invalid_argument("--command " + text + ": times must not decrease");
+    sch.points.emplace_back(t, v);
+    pos = comma + 1;
+  }
+  return sch;
+}
+
+}  // namespace nscd

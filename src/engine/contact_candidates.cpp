@@ -1,0 +1,160 @@
+// Stage 2b: unilateral contact candidates. Shape pairs and clearance joints give
+// gaps, contact frames and Jacobian rows; only the points that can close within
+// the step (predicted gap) become constraint blocks.
+#include <cmath>
+
+#include "step_workspace.hpp"
+
+namespace nscd {
+namespace {
+
+const BodyState kGroundState{};
+
+const BodyState& bodyOrGround(const State& s, int body) {
+  return body == kGround ? kGroundState : s.bodies[body];
+}
+
+Pose poseOf(const BodyState& b) { return Pose{b.x, b.q}; }
+
+// Upper bound of the speed of any point within `reach` of the body origin.
+double speedBound(const BodyState& b, double reach) { return b.v.norm() + b.w.norm() * reach; }
+
+double shapeReach(const Shape& sh) {
+  double ext = 0;
+  switch (sh.type) {
+    case ShapeType::Sphere: ext = sh.radius; break;
+    case ShapeType::Capsule: ext = sh.radius + 0.5 * sh.length; break;
+    case ShapeType::Cylinder: ext = std::hypot(sh.radius, 0.5 * sh.length); break;
+    case ShapeType::Box: ext = sh.half_extents.norm(); break;
+    case ShapeType::Plane: ext = 0; break;
+  }
+  return sh.pose.p.norm() + ext;
+}
+
+Vec3 pointVelocity(const BodyState& b, const Vec3& p_world) {
+  return b.v + (b.q * b.w).cross(p_world - b.x);
+}
+
+// Normal approach velocity of a contact point for the velocities in `st`.
+double normalVelocity(const State& st, int ia, int ib, const ContactPoint& cp) {
+  const Vec3 va = pointVelocity(bodyOrGround(st, ia), cp.point_a);
+  const Vec3 vb = pointVelocity(bodyOrGround(st, ib), cp.point_b);
+  return cp.normal.dot(va - vb);
+}
+
+}  // namespace
+
+void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G) {
+  const Vec3 dirs[3] = {blk.cp.normal, blk.t1, blk.t2};
+  for (int k = 0; k < blk.size; ++k) {
+    const int row = blk.row + k;
+    const Vec3& d = dirs[k];
+    G.row(row).setZero();
+    if (blk.body_a != kGround) {
+      const BodyState& a = s.bodies[blk.body_a];
+      G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();
+      G.block<1, 3>(row, 6 * blk.body_a + 3) =
+          (a.q.conjugate() * (blk.cp.point_a - a.x).cross(d)).transpose();
+    }
+    if (blk.body_b != kGround) {
+      const BodyState& b = s.bodies[blk.body_b];
+      G.block<1, 3>(row, 6 * blk.body_b) = -d.transpose();
+      G.block<1, 3>(row, 6 * blk.body_b + 3) =
+          -(b.q.conjugate() * (blk.cp.point_b - b.x).cross(d)).transpose();
+    }
+  }
+}
+
+// `s` holds q_k and v_k; ws.vfree the free velocity (may be unused: normal_only).
+void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
+                         double extra_margin, StepWorkspace& ws) {
+  const Settings& set = m.settings;
+  const bool planar = set.planar == PlanarMode::XY;
+  const double eps_act = set.projection_tolerance;
+  const int npairs = static_cast<int>(m.contacts.size());
+
+  auto addBlock = [&](const ContactPoint& cp, int ia, int ib, double mu, double e, int source,
+                      bool clearance, int slot) {
+    if (!normal_only) {
+      // Activation: the gap predicted from v_k, or from the free motion, closes.
+      const double un = normalVelocity(s, ia, ib, cp);
+      bool active = cp.gap + set.activation_gamma * h * un <= eps_act;
+      if (!active) {
+        // free velocity: a cheap dot product with the rows of ws.vfree
+        const BodyState& a = bodyOrGround(s, ia);
+        const BodyState& b = bodyOrGround(s, ib);
+        Vec3 va = Vec3::Zero(), vb = Vec3::Zero();
+        if (ia != kGround)
+          va = ws.vfree.segment<3>(6 * ia) +
+               (a.q * Vec3(ws.vfree.segment<3>(6 * ia + 3))).cross(cp.point_a - a.x);
+        if (ib != kGround)
+          vb = ws.vfree.segment<3>(6 * ib) +
+               (b.q * Vec3(ws.vfree.segment<3>(6 * ib + 3))).cross(cp.point_b - b.x);
+        active = cp.gap + h * cp.normal.dot(va - vb) <= 0;
+      }
+      if (!active) return;
+    }
+    if (ws.rows + 3 > ws.max_rows) return;  // cannot happen: sized for the worst case
+    ConstraintBlock blk;
+    blk.cp = cp;
+    blk.body_a = ia;
+    blk.body_b = ib;
+    blk.mu = mu;
+    blk.e = e;
+    blk.source = source;
+    blk.clearance = clearance;
+    blk.slot = slot;
+    blk.row = ws.rows;
+    if (normal_only || mu <= 0) {
+      blk.kind = BlockKind::Frictionless;
+      blk.size = 1;
+    } else {
+      blk.kind = BlockKind::Frictional;
+      blk.size = 3;
+    }
+    if (planar) {
+      blk.t2 = Vec3::UnitZ();
+      blk.t1 = blk.t2.cross(cp.normal);
+      const double l = blk.t1.norm();
+      blk.t1 = l > 1e-12 ? Vec3(blk.t1 / l) : anyOrthogonal(cp.normal);
+    } else {
+      blk.t1 = anyOrthogonal(cp.normal);
+      blk.t2 = cp.normal.cross(blk.t1);
+    }
+    writeJacobianRows(s, blk, ws.G);
+    ws.rows += blk.size;
+    ws.blocks.push_back(blk);
+  };
+
+  for (int p = 0; p < npairs; ++p) {
+    const ContactPair& pair = m.contacts[p];
+    const BodyState& a = bodyOrGround(s, pair.a.body);
+    const BodyState& b = bodyOrGround(s, pair.b.body);
+    const double margin = extra_margin + eps_act +
+                          2.0 * h * (speedBound(a, shapeReach(pair.a)) + speedBound(b, shapeReach(pair.b)));
+    const Pose pa = poseOf(a) * pair.a.pose;
+    const Pose pb = poseOf(b) * pair.b.pose;
+    const int np = collide(pair.a, pa, pair.b, pb, margin, ws.points);
+    for (int k = 0; k < np; ++k)
+      addBlock(ws.points[k], pair.a.body, pair.b.body, pair.mu, pair.e, p, false,
+               p * kMaxPointsPerPair + ws.points[k].feature);
+  }
+  for (size_t c = 0; c < m.clearance_joints.size(); ++c) {
+    const ClearanceJoint& cj = m.clearance_joints[c];
+    const BodyState& br = bodyOrGround(s, cj.bearing_body);
+    const BodyState& jr = bodyOrGround(s, cj.journal_body);
+    const double reach = std::max(cj.bearing_center.norm(), cj.journal_center.norm()) +
+                         std::max(cj.bump_at, cj.radius + cj.radial) + cj.length;
+    const double margin =
+        extra_margin + eps_act + 2.0 * h * (speedBound(br, reach) + speedBound(jr, reach));
+    const int np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar,
+                                     &ws.phi_hint[2 * c], ws.points);
+    for (int k = 0; k < np; ++k)
+      addBlock(ws.points[k], cj.bearing_body, cj.journal_body, cj.mu, cj.e,
+               static_cast<int>(c), true,
+               ws.contact_slot_base_clearance + static_cast<int>(c) * kMaxClearancePoints +
+                   ws.points[k].feature);
+  }
+}
+
+}  // namespace nscd

@@ -1,0 +1,220 @@
+// Stage 1: forces. Gravity, gyroscopic torques, springs, dampers and actuators,
+// with the derivatives the Moreau-Jean iteration matrix needs for the stiff
+// elements (springs and PD actuators), by finite differences per element.
+#include <cmath>
+
+#include "step_workspace.hpp"
+
+namespace nscd {
+namespace {
+
+const BodyState kGroundState{};  // identity pose, at rest
+
+const BodyState& bodyOrGround(const State& s, int body) {
+  return body == kGround ? kGroundState : s.bodies[body];
+}
+
+Vec3 pointWorld(const BodyState& b, const Vec3& local) { return b.q * local + b.x; }
+Vec3 pointVelocity(const BodyState& b, const Vec3& local) {
+  return b.v + b.q * (b.w.cross(local));
+}
+
+// Twist angle of the child about the joint axis, from the URDF zero.
+double revoluteAngle(const Joint& j, const BodyState& a, const BodyState& b) {
+  Quat dev = (a.q.conjugate() * b.q) * j.rel_rot_zero.conjugate();
+  if (dev.w() < 0) dev.coeffs() = -dev.coeffs();
+  return 2.0 * std::atan2(dev.vec().dot(j.axis_a), dev.w());
+}
+
+double jointPos(const Joint& j, const BodyState& a, const BodyState& b) {
+  if (j.type == JointType::Prismatic)
+    return (pointWorld(b, j.anchor_b) - pointWorld(a, j.anchor_a)).dot(a.q * j.axis_a);
+  return revoluteAngle(j, a, b);
+}
+
+double jointVel(const Joint& j, const BodyState& a, const BodyState& b) {
+  const Vec3 axis = a.q * j.axis_a;
+  if (j.type == JointType::Prismatic)
+    return (pointVelocity(b, j.anchor_b) - pointVelocity(a, j.anchor_a)).dot(axis);
+  return (b.q * b.w - a.q * a.w).dot(axis);
+}
+
+// Adds a world force applied at a world point to a body's generalized force.
+void addForceAt(Vec6& g, const BodyState& b, const Vec3& f, const Vec3& p) {
+  g.head<3>() += f;
+  g.tail<3>() += b.q.conjugate() * ((p - b.x).cross(f));
+}
+void addTorque(Vec6& g, const BodyState& b, const Vec3& tau_world) {
+  g.tail<3>() += b.q.conjugate() * tau_world;
+}
+
+// A force element between two bodies: a spring or a position actuator.
+struct Element {
+  bool is_spring;
+  int index;
+  int body_a, body_b;
+};
+
+// Generalized forces of an element on its two bodies. `report` gets the spring
+// force (tension / torque on b) or the actuator effort.
+void elementForce(const Model& m, const Element& el, const BodyState& a, const BodyState& b,
+                  const std::vector<double>& commands, Vec6& fa, Vec6& fb, double& report) {
+  fa.setZero();
+  fb.setZero();
+  if (el.is_spring) {
+    const Spring& sp = m.springs[el.index];
+    if (sp.type == SpringType::Linear) {
+      const Vec3 pa = pointWorld(a, sp.end_a), pb = pointWorld(b, sp.end_b);
+      Vec3 d = pb - pa;
+      const double L = d.norm();
+      if (L < 1e-15) {  // direction undefined: no force
+        report = 0;
+        return;
+      }
+      const Vec3 u = d / L;
+      const double rate = (pointVelocity(b, sp.end_b) - pointVelocity(a, sp.end_a)).dot(u);
+      const double f = sp.stiffness * (L - sp.rest) + sp.damping * rate;  // tension
+      addForceAt(fa, a, f * u, pa);
+      addForceAt(fb, b, -f * u, pb);
+      report = f;
+    } else {
+      const Joint& j = m.joints[sp.joint];
+      const double ang = jointPos(j, a, b);
+      const double rate = jointVel(j, a, b);
+      const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
+      const Vec3 axis = a.q * j.axis_a;
+      addTorque(fb, b, tau * axis);
+      addTorque(fa, a, -tau * axis);
+      report = tau;
+    }
+    return;
+  }
+  const Actuator& ac = m.actuators[el.index];
+  const Joint& j = m.joints[ac.joint];
+  const double pos = jointPos(j, a, b);
+  const double vel = jointVel(j, a, b);
+  double effort = ac.kp * (commands[el.index] - pos) - ac.kd * vel;
+  if (ac.max_effort > 0) effort = std::max(-ac.max_effort, std::min(ac.max_effort, effort));
+  const Vec3 axis = a.q * j.axis_a;
+  if (j.type == JointType::Prismatic) {
+    const Vec3 pb = pointWorld(b, j.anchor_b);
+    addForceAt(fb, b, effort * axis, pb);
+    addForceAt(fa, a, -effort * axis, pb);
+  } else {
+    addTorque(fb, b, effort * axis);
+    addTorque(fa, a, -effort * axis);
+  }
+  report = effort;
+}
+
+void perturb(BodyState& b, int dof, double eps, bool position) {
+  if (!position) {
+    if (dof < 3) b.v[dof] += eps; else b.w[dof - 3] += eps;
+  } else {
+    if (dof < 3) {
+      b.x[dof] += eps;
+    } else {
+      Vec3 phi = Vec3::Zero();
+      phi[dof - 3] = eps;
+      b.q = (b.q * expMap(phi)).normalized();
+    }
+  }
+}
+
+}  // namespace
+
+Vec3 bodyPointWorld(const State& s, int body, const Vec3& local) {
+  return pointWorld(bodyOrGround(s, body), local);
+}
+
+double jointPosition(const Model& m, const State& s, int joint) {
+  const Joint& j = m.joints[joint];
+  return jointPos(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
+}
+
+double jointVelocity(const Model& m, const State& s, int joint) {
+  const Joint& j = m.joints[joint];
+  return jointVel(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
+}
+
+void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
+                   StepWorkspace& ws, bool with_jacobians) {
+  ws.F.setZero();
+  if (with_jacobians) {
+    ws.K.setZero();
+    ws.C.setZero();
+  }
+  const Vec3 g = m.settings.gravity;
+  for (int i = 0; i < ws.nbodies; ++i) {
+    const Body& body = m.bodies[i];
+    const BodyState& b = s.bodies[i];
+    ws.F.segment<3>(6 * i) += body.mass * g;
+    ws.F.segment<3>(6 * i + 3) -= b.w.cross(body.inertia * b.w);  // gyroscopic, explicit
+  }
+  // Force actuators: explicit.
+  for (size_t i = 0; i < m.actuators.size(); ++i) {
+    const Actuator& ac = m.actuators[i];
+    if (ac.type != ActuatorType::Force) continue;
+    const BodyState& b = s.bodies[ac.body];
+    const Vec3 f = b.q * (commands[i] * ac.direction);
+    Vec6 gf = Vec6::Zero();
+    addForceAt(gf, b, f, pointWorld(b, ac.point));
+    ws.F.segment<6>(6 * ac.body) += gf;
+    ws.actuator_effort[i] = commands[i];
+  }
+  // Springs and PD actuators, with their stiffness and damping.
+  auto element = [&](const Element& el) {
+    const BodyState& a0 = bodyOrGround(s, el.body_a);
+    const BodyState& b0 = bodyOrGround(s, el.body_b);
+    Vec6 fa, fb;
+    double report = 0;
+    elementForce(m, el, a0, b0, commands, fa, fb, report);
+    if (el.is_spring) ws.spring_force[el.index] = report; else ws.actuator_effort[el.index] = report;
+    if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
+    if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
+    if (!with_jacobians) return;
+    // Central differences over the 6 velocity and 6 position DOF of each body.
+    const int bodies[2] = {el.body_a, el.body_b};
+    for (int side = 0; side < 2; ++side) {
+      const int bj = bodies[side];
+      if (bj == kGround) continue;
+      const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
+      for (int pos = 0; pos < 2; ++pos) {
+        for (int dof = 0; dof < 6; ++dof) {
+          const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
+          BodyState ap = a0, bp = b0, am = a0, bm = b0;
+          perturb(side == 0 ? ap : bp, dof, eps, pos);
+          perturb(side == 0 ? am : bm, dof, -eps, pos);
+          Vec6 fap, fbp, fam, fbm;
+          double r;
+          elementForce(m, el, ap, bp, commands, fap, fbp, r);
+          elementForce(m, el, am, bm, commands, fam, fbm, r);
+          Eigen::MatrixXd& D = pos ? ws.K : ws.C;
+          const int col = 6 * bj + dof;
+          if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += (fap - fam) / (2 * eps);
+          if (el.body_b != kGround) D.block<6, 1>(6 * el.body_b, col) += (fbp - fbm) / (2 * eps);
+        }
+      }
+    }
+  };
+  for (size_t i = 0; i < m.springs.size(); ++i)
+    element(Element{true, static_cast<int>(i), m.springs[i].body_a, m.springs[i].body_b});
+  for (size_t i = 0; i < m.actuators.size(); ++i) {
+    const Actuator& ac = m.actuators[i];
+    if (ac.type != ActuatorType::Position) continue;
+    const Joint& j = m.joints[ac.joint];
+    element(Element{false, static_cast<int>(i), j.body_a, j.body_b});
+  }
+  if (with_jacobians) {
+    // Only the symmetric part enters the iteration matrix (it must stay SPD).
+    for (Eigen::MatrixXd* D : {&ws.K, &ws.C})
+      for (int c = 0; c < ws.n; ++c)
+        for (int r = c + 1; r < ws.n; ++r) {
+          const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
+          (*D)(r, c) = avg;
+          (*D)(c, r) = avg;
+        }
+  }
+}
+
+}  // namespace nscd

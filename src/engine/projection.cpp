@@ -1,0 +1,86 @@
+// Stage 6: combined projection (Acary 2013). After the velocity step, positions
+// are projected onto {g(q) >= 0, h(q) = 0} by a position-level complementarity
+// problem on the normal rows: 0 <= g + G M^-1 G^T tau  _|_  tau >= 0 (equalities
+// for bilateral rows), dq = M^-1 G^T tau, repeated until the violation is below
+// the tolerance (a length, well below the smallest clearance).
+#include <algorithm>
+#include <cmath>
+
+#include "step_workspace.hpp"
+
+namespace nscd {
+namespace {
+
+void gatherPositionRows(const Model& m, const State& s, const std::vector<double>& commands,
+                        StepWorkspace& ws, double extra_margin) {
+  ws.blocks.clear();
+  ws.rows = 0;
+  // Prescribed rates do not matter at the position level.
+  appendBilateralBlocks(m, s, commands, ws.zero_rates, ws);
+  appendContactBlocks(m, s, 0.0, true, extra_margin, ws);
+}
+
+double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {
+  double pen = 0, bil = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.kind == BlockKind::Bilateral) {
+      for (int k = 0; k < blk.size; ++k) bil = std::max(bil, std::abs(blk.error[k]));
+    } else {
+      pen = std::max(pen, -blk.cp.gap);
+    }
+  }
+  if (bilateral) *bilateral = bil;
+  return pen;
+}
+
+}  // namespace
+
+double measureViolation(const Model& m, const State& s, const std::vector<double>& commands,
+                        StepWorkspace& ws, double* bilateral) {
+  gatherPositionRows(m, s, commands, ws, 0.0);
+  return violationOfBlocks(ws, bilateral);
+}
+
+int projectPositions(const Model& m, State& s, const std::vector<double>& commands,
+                     StepWorkspace& ws, int max_passes, double tol, double& violation) {
+  double extra = 0;
+  SolverOptions opt;
+  opt.tolerance = 0.01 * tol;
+  opt.max_iterations = 500;
+  for (int pass = 0;; ++pass) {
+    gatherPositionRows(m, s, commands, ws, extra);
+    double bil = 0;
+    const double pen = violationOfBlocks(ws, &bil);
+    violation = std::max(pen, bil);
+    if (violation <= tol || pass >= max_passes) return pass;
+    // Contacts within reach of the correction join the problem so that fixing
+    // one violation does not create another.
+    if (extra < 2 * violation) {
+      extra = 2 * violation;
+      gatherPositionRows(m, s, commands, ws, extra);
+    }
+    const int r = ws.rows;
+    ws.problem.clear();
+    for (ConstraintBlock& blk : ws.blocks) {
+      ProblemBlock pb;
+      pb.kind = blk.kind;
+      pb.row = blk.row;
+      pb.size = blk.size;
+      ws.problem.push_back(pb);
+      if (blk.kind == BlockKind::Bilateral)
+        for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
+      else
+        ws.b[blk.row] = blk.cp.gap;
+    }
+    auto G = ws.G.topRows(r);
+    ws.Y.leftCols(r).noalias() = ws.Mproj * G.transpose();
+    ws.W.topLeftCorner(r, r).noalias() = G * ws.Y.leftCols(r);
+    ws.P.head(r).setZero();
+    ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+    ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
+    if (!ws.dv.allFinite()) return pass;
+    applyDisplacement(s, ws.dv);
+  }
+}
+
+}  // namespace nscd

@@ -1,0 +1,126 @@
+// Preallocated buffers shared by the stages of a time step, and the stage
+// functions themselves (one .cpp each). Internal to the engine.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "nscd_sim/clearance_geometry.hpp"
+#include "nscd_sim/contact_geometry.hpp"
+#include "nscd_sim/friction_contact_solver.hpp"
+#include "nscd_sim/simulator.hpp"
+
+namespace nscd {
+
+// One block of constraint rows (a contact point or a group of bilateral rows).
+struct ConstraintBlock {
+  BlockKind kind = BlockKind::Frictional;
+  int row = 0;    // first row in G
+  int size = 3;
+  int body_a = kGround, body_b = kGround;
+  double mu = 0, e = 0;
+  // Unilateral contacts
+  ContactPoint cp;          // world geometry; normal from B to A
+  Vec3 t1 = Vec3::UnitX(), t2 = Vec3::UnitY();
+  int source = -1;          // contact pair or clearance joint index
+  bool clearance = false;
+  int slot = -1;            // warm-start slot
+  // Bilateral rows: target velocity (rheonomic) and position error per row
+  double target[6] = {0, 0, 0, 0, 0, 0};
+  double error[6] = {0, 0, 0, 0, 0, 0};
+  int joint = -1;           // ideal joint index, or -1
+  int actuator = -1;        // prescribed actuator index, or -1
+};
+
+class StepWorkspace {
+ public:
+  int nbodies = 0;
+  int n = 0;        // 6 * nbodies
+  int max_rows = 0;
+
+  // Forces and their (symmetrised) derivatives
+  Eigen::VectorXd F;       // generalized force at t_k
+  Eigen::MatrixXd K;       // dF/dq (through the exponential map), symmetric part
+  Eigen::MatrixXd C;       // dF/dv, symmetric part
+  Eigen::MatrixXd A;       // iteration matrix
+  Eigen::MatrixXd Minv;    // Ŵ: inverse of the iteration matrix (planar-projected)
+  Eigen::MatrixXd Mproj;   // M^-1 (planar-projected), for the position projection
+  Eigen::MatrixXd basis;   // n x nred, allowed velocity directions (planar mode)
+  Eigen::MatrixXd red;     // nred x nred scratch
+  Eigen::MatrixXd AB, BT;  // planar scratch: A B (n x nred), B^T (nred x n)
+  bool planar = false;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::VectorXd rhs, vk, vfree, vnew, dv;
+  std::vector<double> actuator_effort;
+  std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
+  std::vector<double> spring_force;
+
+  // Constraint rows
+  std::vector<ConstraintBlock> blocks;
+  std::vector<ProblemBlock> problem;
+  Eigen::MatrixXd G;       // max_rows x n
+  Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
+  Eigen::MatrixXd W;       // max_rows x max_rows
+  Eigen::VectorXd b, P;
+  FrictionContactSolver solver;
+  int rows = 0;
+
+  // Warm starts: 3 impulses per slot, and whether the slot was active last step
+  std::vector<Eigen::Vector3d> warm;
+  std::vector<char> warm_valid;
+  std::vector<double> warm_bilateral;  // per bilateral row slot
+  int contact_slot_base_clearance = 0;
+  std::vector<int> joint_row_base;     // first bilateral warm slot of each joint
+  std::vector<int> actuator_row_base;  // of each prescribed actuator
+  std::vector<double> phi_hint;        // 2 per clearance joint
+
+  // Reports of the last step
+  std::vector<ContactReport> reports;
+  StepStats stats;
+  std::vector<double> pair_gap, pair_fn, pair_ft;          // per contact pair
+  std::vector<double> cj_fn;                               // per clearance joint
+
+  ContactPoint points[kMaxClearancePoints];
+};
+
+// ---- stages (each in its own file) ----
+
+// forces.cpp: generalized forces at the state; with jacobians, K and C too.
+void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
+                   StepWorkspace& ws, bool with_jacobians);
+double jointPosition(const Model& m, const State& s, int joint);
+double jointVelocity(const Model& m, const State& s, int joint);
+Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
+
+// joint_constraints.cpp: bilateral rows of ideal joints and prescribed actuators.
+// rate[i] = commanded rate of actuator i (prescribed), command[i] its value.
+void appendBilateralBlocks(const Model& m, const State& s, const std::vector<double>& commands,
+                           const std::vector<double>& rates, StepWorkspace& ws);
+
+// contact_candidates.cpp: unilateral contact blocks whose gap is below the margin
+// computed from the velocities; normal_only gives 1-row blocks (projection).
+void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
+                         double extra_margin, StepWorkspace& ws);
+// Writes the Jacobian rows of block `blk` into ws.G.
+void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
+
+// projection.cpp: combined projection of positions onto the constraints.
+// Returns the number of passes; writes the remaining violation.
+int projectPositions(const Model& m, State& s, const std::vector<double>& commands,
+                     StepWorkspace& ws, int max_passes, double tol, double& violation);
+
+// time_integration.cpp: x_{k+1}, q_{k+1} from v_k, v_{k+1}.
+void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::VectorXd& vnew,
+                        double h, double theta);
+void applyDisplacement(State& s, const Eigen::VectorXd& dq);
+void stateVelocities(const State& s, Eigen::VectorXd& v);
+void setStateVelocities(State& s, const Eigen::VectorXd& v);
+
+// Largest penetration of the unilateral contacts (positive length) of the state;
+// the largest bilateral position error goes to *bilateral if given.
+double measureViolation(const Model& m, const State& s, const std::vector<double>& commands,
+                        StepWorkspace& ws, double* bilateral = nullptr);
+
+}  // namespace nscd

@@ -1,0 +1,47 @@
+// RViz markers for contacts and clearance joints. Built only while someone
+// subscribes to ~contact_markers; every array starts with DELETEALL so markers
+// of contacts that opened disappear.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <ros/time.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "nscd_sim/simulator.hpp"
+
+namespace nscd_node {
+
+struct MarkerStyle {
+  std::string frame = "world";  // the world frame: every marker is in it
+  double force_scale = 0.01;    // arrow length per newton (m/N)
+  double size = 0.01;           // contact-point sphere diameter (m); arrows are thinner
+  double ecc_scale = 50;        // magnification of clearance-joint eccentricities
+};
+
+// A clearance joint's state as the eccentricity marker draws it, in the world frame.
+struct EccentricityView {
+  nscd::Vec3 center = nscd::Vec3::Zero();  // bearing centre
+  nscd::Vec3 axis = nscd::Vec3::UnitZ();   // bearing axis (unit)
+  nscd::Vec3 ref = nscd::Vec3::UnitX();    // origin of the angle (unit, orthogonal to axis)
+  double radial = 0;  // radial clearance c_r (m)
+  double ecc = 0;     // eccentricity / c_r (0 centred, 1 touching)
+  double angle = 0;   // direction of the eccentricity about axis from ref (rad)
+  double fn = 0;      // summed normal force of the joint's contacts (N)
+};
+
+EccentricityView eccentricityView(const nscd::Simulator& sim, int clearance_joint);
+
+// Per contact: a normal-force arrow (red), a tangential-force arrow (blue when
+// sticking, yellow when sliding), both from the contact point along the force on
+// body A, length |F| * force_scale, and a sphere at the point. Per clearance
+// joint: the clearance circle magnified by ecc_scale (radius c_r * ecc_scale, grey)
+// and a line from the bearing centre to the magnified journal-centre offset
+// (green while free, magenta while in contact).
+void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
+                         const std::vector<EccentricityView>& clearance,
+                         const MarkerStyle& style, const ros::Time& stamp,
+                         visualization_msgs::MarkerArray& out);
+
+}  // namespace nscd_node

@@ -1,0 +1,51 @@
+#include "csv_writer.hpp"
+
+#include <stdexcept>
+
+namespace nscd {
+
+CsvWriter::CsvWriter(const std::string& path, const Simulator& sim) {
+  f_ = std::fopen(path.c_str(), "w");
+  if (!f_) throw std::runtime_error(path + ": cannot open for writing");
+  const Model& m = sim.model();
+  std::fprintf(f_, "t");
+  for (const Body& b : m.bodies)
+    for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"})
+      std::fprintf(f_, ",%s.%s", b.name.c_str(), c);
+  for (const ClearanceJoint& cj : m.clearance_joints)
+    std::fprintf(f_, ",%s.ecc,%s.ecc_angle,%s.fn", cj.name.c_str(), cj.name.c_str(), cj.name.c_str());
+  for (const ContactPair& c : m.contacts)
+    std::fprintf(f_, ",%s.gap,%s.fn,%s.ft", c.name.c_str(), c.name.c_str(), c.name.c_str());
+  for (const Spring& s : m.springs) std::fprintf(f_, ",%s.force", s.name.c_str());
+  for (const Actuator& a : m.actuators) std::fprintf(f_, ",%s.cmd,%s.effort", a.name.c_str(), a.name.c_str());
+  std::fprintf(f_, ",iters,residual\n");
+}
+
+CsvWriter::~CsvWriter() {
+  if (f_) std::fclose(f_);
+}
+
+void CsvWriter::writeRow(const Simulator& sim) {
+  const Model& m = sim.model();
+  const State& s = sim.state();
+  std::fprintf(f_, "%.10g", s.t);
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const BodyState& b = s.bodies[i];
+    const Vec3 w = b.q * b.w;
+    std::fprintf(f_, ",%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g",
+                 b.x.x(), b.x.y(), b.x.z(), b.q.w(), b.q.x(), b.q.y(), b.q.z(), b.v.x(), b.v.y(),
+                 b.v.z(), w.x(), w.y(), w.z());
+  }
+  for (size_t c = 0; c < m.clearance_joints.size(); ++c)
+    std::fprintf(f_, ",%.10g,%.10g,%.10g", sim.clearanceEccentricity(c),
+                 sim.clearanceEccentricityAngle(c), sim.clearanceNormalForce(c));
+  for (size_t c = 0; c < m.contacts.size(); ++c)
+    std::fprintf(f_, ",%.10g,%.10g,%.10g", sim.contactGap(c), sim.contactNormalForce(c),
+                 sim.contactTangentialForce(c));
+  for (size_t i = 0; i < m.springs.size(); ++i) std::fprintf(f_, ",%.10g", sim.springForce(i));
+  for (size_t i = 0; i < m.actuators.size(); ++i)
+    std::fprintf(f_, ",%.10g,%.10g", sim.command(i), sim.actuatorEffort(i));
+  std::fprintf(f_, ",%d,%.4g\n", sim.stats().iterations, sim.stats().residual);
+}
+
+}  // namespace nscd

@@ -1,0 +1,193 @@
+// nscd_run: the headless runner (interfaces.md). Loads a scene, steps it for a
+// duration with optional actuator schedules, writes a CSV, prints one JSON line.
+// Exit status: 0 done, 2 bad input, 3 the simulation failed.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "csv_writer.hpp"
+#include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
+
+namespace {
+
+int badInput(const std::string& line) {
+  std::cerr << line << std::endl;
+  return 2;
+}
+
+class ProgressBar {
+ public:
+  ProgressBar(bool enabled, double duration) : enabled_(enabled), duration_(duration) {}
+  void update(double t, double wall) {
+    if (!enabled_ || wall - last_ < 0.25) return;
+    last_ = wall;
+    draw(t, wall);
+  }
+  void finish(double t, double wall) {
+    if (!enabled_ || last_ < 0) return;  // never drawn: a short run stays silent
+    draw(t, wall);
+    std::fputc('\n', stderr);
+  }
+
+ private:
+  void draw(double t, double wall) {
+    const double frac = duration_ > 0 ? std::min(1.0, t / duration_) : 1.0;
+    const int width = 30, done = static_cast<int>(frac * width);
+    std::string bar(done, '#');
+    bar.resize(width, ' ');
+    const double eta = frac > 0 ? wall * (1 - frac) / frac : 0;
+    std::fprintf(stderr, "\r[%s] %5.1f%%  t=%.6g/%.6g s  rtf %.3g  eta %.0f s ", bar.c_str(),
+                 100 * frac, t, duration_, wall > 0 ? t / wall : 0.0, eta);
+    std::fflush(stderr);
+  }
+  bool enabled_;
+  double duration_;
+  double last_ = -1;
+};
+
+std::string jsonNumber(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"nscd_run: headless Moreau-Jean simulation of a scene (URDF + <nscd>)"};
+  std::string scene, config, csv;
+  std::vector<std::string> sets, commands;
+  double duration = 1.0, dt = 0;
+  int every = 1;
+  bool quiet = false;
+  app.add_option("scene", scene, "scene file (URDF with <nscd> annotations)")->required();
+  app.add_option("--config", config, "YAML file of simulation settings");
+  app.add_option("--set", sets, "override a setting: key=value (repeatable)");
+  app.add_option("--duration", duration, "simulated time, s (default 1)");
+  app.add_option("--dt", dt, "time step, s (overrides the scene)");
+  app.add_option("--csv", csv, "write a CSV row every N steps to this file");
+  app.add_option("--every", every, "CSV row every N steps (default 1)");
+  app.add_option("--command", commands, "actuator schedule NAME=t0:v0,t1:v1,... (repeatable)");
+  app.add_flag("--quiet", quiet, "no progress bar");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return badInput(std::string("nscd_run: ") + e.what() + " (see --help)");
+  }
+  if (!std::isfinite(duration) || duration < 0)
+    return badInput("nscd_run: --duration must be a finite number >= 0");
+  if (every < 1) return badInput("nscd_run: --every must be >= 1");
+
+  std::vector<nscd::SettingOverride> overrides;
+  std::unique_ptr<nscd::Simulator> sim;
+  std::vector<nscd::CommandSchedule> schedules;
+  std::vector<int> schedule_actuator;
+  try {
+    if (!config.empty()) overrides = nscd::readSettingsYaml(config);
+    for (const std::string& s : sets) {
+      const size_t eq = s.find('=');
+      if (eq == std::string::npos || eq == 0)
+        return badInput("nscd_run: --set " + s + ": expected key=value");
+      overrides.push_back({s.substr(0, eq), s.substr(eq + 1), "--set"});
+    }
+    if (dt != 0 || app.count("--dt")) {
+      std::ostringstream os;
+      os.precision(17);
+      os << dt;
+      overrides.push_back({"dt", os.str(), "--dt"});
+    }
+    nscd::Model model = nscd::loadScene(scene, overrides);
+    for (const std::string& c : commands) {
+      nscd::CommandSchedule sch = nscd::parseCommandSchedule(c);
+      const int a = model.findActuator(sch.actuator);
+      if (a < 0) {
+        std::string names;
+        for (const nscd::Actuator& ac : model.actuators) names += (names.empty() ? "" : ", ") + ac.name;
+        return badInput("nscd_run: --command: unknown actuator '" + sch.actuator + "' (scene has: " +
+                        (names.empty() ? "none" : names) + ")");
+      }
+      schedules.push_back(sch);
+      schedule_actuator.push_back(a);
+    }
+    sim = std::make_unique<nscd::Simulator>(std::move(model));
+  } catch (const nscd::SceneError& e) {
+    return badInput(e.what());
+  } catch (const std::invalid_argument& e) {
+    return badInput(std::string("nscd_run: ") + e.what());
+  } catch (const std::exception& e) {
+    return badInput(e.what());
+  }
+
+  std::unique_ptr<nscd::CsvWriter> writer;
+  try {
+    if (!csv.empty()) writer = std::make_unique<nscd::CsvWriter>(csv, *sim);
+  } catch (const std::exception& e) {
+    return badInput(std::string("nscd_run: ") + e.what());
+  }
+
+  const double h = sim->model().settings.dt;
+  const long steps = static_cast<long>(std::llround(duration / h));
+  for (size_t i = 0; i < schedules.size(); ++i) sim->setCommand(schedule_actuator[i], schedules[i].value(0.0));
+  if (writer) writer->writeRow(*sim);
+  const double energy_initial = sim->energy().total();
+  ProgressBar progress(!quiet && isatty(2), steps * h);
+  long iters_sum = 0;
+  int iters_max = 0, unconverged = 0;
+  double residual_max = 0, max_pen = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  long k = 0;
+  int status = 0;
+  for (k = 1; k <= steps; ++k) {
+    const double t_next = k * h;
+    for (size_t i = 0; i < schedules.size(); ++i)
+      sim->setCommand(schedule_actuator[i], schedules[i].value(t_next));
+    const nscd::StepStatus st = sim->step();
+    const nscd::StepStats& s = sim->stats();
+    iters_sum += s.iterations;
+    iters_max = std::max(iters_max, s.iterations);
+    if (std::isfinite(s.residual)) residual_max = std::max(residual_max, s.residual);
+    max_pen = std::max(max_pen, s.max_penetration);
+    if (st == nscd::StepStatus::NotConverged) ++unconverged;
+    if (st == nscd::StepStatus::NonFinite) {
+      progress.finish(sim->state().t, wall());
+      std::cerr << "nscd_run: simulation failed at t=" << sim->state().t
+                << " s: non-finite state (last solver residual " << s.residual << " after "
+                << s.iterations << " iterations)" << std::endl;
+      status = 3;
+      break;
+    }
+    if (writer && k % every == 0) writer->writeRow(*sim);
+    if ((k & 255) == 0) progress.update(sim->state().t, wall());
+  }
+  const double wall_s = wall();
+  progress.finish(sim->state().t, wall_s);
+  const long done = status == 0 ? steps : k;
+  const double sim_time = sim->state().t;
+  std::cout << "{\"steps\":" << done << ",\"sim_time\":" << jsonNumber(sim_time)
+            << ",\"wall_s\":" << jsonNumber(wall_s)
+            << ",\"rtf\":" << jsonNumber(wall_s > 0 ? sim_time / wall_s : 0.0)
+            << ",\"iters_mean\":" << jsonNumber(done > 0 ? double(iters_sum) / done : 0.0)
+            << ",\"iters_max\":" << iters_max << ",\"residual_max\":" << jsonNumber(residual_max)
+            << ",\"unconverged_steps\":" << unconverged
+            << ",\"max_penetration\":" << jsonNumber(max_pen)
+            << ",\"energy_initial\":" << jsonNumber(energy_initial)
+            << ",\"energy_final\":" << jsonNumber(sim->energy().total()) << "}" << std::endl;
+  return status;
+}
