@@ -79,7 +79,8 @@ class Simulator {
   double command(int actuator) const { return commands_[actuator]; }
   // Effort of each actuator during the last step (N or N m).
   double actuatorEffort(int actuator) const;
-  // Force (N or N m) in each spring, positive in tension / positive torque.
+  // Force (N or N m) in each spring at the current state, positive in tension /
+  // torque on the joint's child.
   double springForce(int spring) const;
 
   const StepStats& stats() const;

@@ -127,6 +127,16 @@ Vec3 bodyPointWorld(const State& s, int body, const Vec3& local) {
   return pointWorld(bodyOrGround(s, body), local);
 }
 
+double springForceAt(const Model& m, const State& s, int spring) {
+  const Spring& sp = m.springs[spring];
+  Vec6 fa, fb;
+  double report = 0;
+  static const std::vector<double> kNoCommands;
+  elementForce(m, Element{true, spring, sp.body_a, sp.body_b}, bodyOrGround(s, sp.body_a),
+               bodyOrGround(s, sp.body_b), kNoCommands, fa, fb, report);
+  return report;
+}
+
 double jointPosition(const Model& m, const State& s, int joint) {
   const Joint& j = m.joints[joint];
   return jointPos(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));

@@ -347,7 +347,7 @@ StepStatus Simulator::step() {
 }
 
 double Simulator::actuatorEffort(int actuator) const { return ws_->actuator_effort[actuator]; }
-double Simulator::springForce(int spring) const { return ws_->spring_force[spring]; }
+double Simulator::springForce(int spring) const { return springForceAt(model_, state_, spring); }
 const StepStats& Simulator::stats() const { return ws_->stats; }
 const std::vector<ContactReport>& Simulator::contacts() const { return ws_->reports; }
 

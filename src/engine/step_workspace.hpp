@@ -91,6 +91,8 @@ class StepWorkspace {
 void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
                    StepWorkspace& ws, bool with_jacobians);
 double jointPosition(const Model& m, const State& s, int joint);
+// Force in a spring at the state (tension, or torque on the child for torsion).
+double springForceAt(const Model& m, const State& s, int spring);
 double jointVelocity(const Model& m, const State& s, int joint);
 Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
 

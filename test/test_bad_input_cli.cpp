@@ -1,0 +1,64 @@
+// nscd_run refuses every bad scene (and bad YAML config) before the first step:
+// exit status 2 and exactly one line on stderr that names the file.
+#include <dirent.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+
+using nscd_test::runNscd;
+using nscd_test::scenePath;
+
+namespace {
+
+std::vector<std::string> badScenes() {
+  std::vector<std::string> out;
+  const std::string dir = scenePath("test/scenes/bad");
+  if (DIR* d = opendir(dir.c_str())) {
+    for (dirent* e; (e = readdir(d));) {
+      const std::string f = e->d_name;
+      if (f.size() > 5 && f.substr(f.size() - 5) == ".urdf") out.push_back(dir + "/" + f);
+    }
+    closedir(d);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// One line: no newline except an optional final one, and not empty.
+bool oneLine(const std::string& s) {
+  std::string t = s;
+  if (!t.empty() && t.back() == '\n') t.pop_back();
+  return !t.empty() && t.find('\n') == std::string::npos;
+}
+
+void expectRefused(const std::string& args, const std::string& file) {
+  const nscd_test::RunResult r = runNscd(args);
+  EXPECT_EQ(r.status, 2) << args << "\nstderr: " << r.err;
+  EXPECT_TRUE(oneLine(r.err)) << args << "\nstderr: [" << r.err << "]";
+  EXPECT_NE(r.err.find(file), std::string::npos) << args << "\nstderr: " << r.err;
+}
+
+}  // namespace
+
+TEST(BadInputCli, EveryBadSceneExitsWithStatus2AndOneLine) {
+  const std::vector<std::string> scenes = badScenes();
+  ASSERT_GE(scenes.size(), 20u);
+  for (const std::string& s : scenes) expectRefused("'" + s + "' --duration 0.001 --quiet", s);
+}
+
+TEST(BadInputCli, BadYamlConfigIsRefused) {
+  const std::string scene = scenePath("urdf/ball.urdf");
+  for (const char* y : {"bad_settings.yaml", "malformed.yaml"}) {
+    const std::string cfg = scenePath(std::string("test/scenes/bad/") + y);
+    expectRefused("'" + scene + "' --config '" + cfg + "' --duration 0.001 --quiet", cfg);
+  }
+}
+
+TEST(BadInputCli, MissingSceneFile) {
+  const std::string missing = scenePath("urdf/no_such_scene.urdf");
+  expectRefused("'" + missing + "' --duration 0.001 --quiet", missing);
+}

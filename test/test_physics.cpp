@@ -1,0 +1,158 @@
+// Physics of the engine core against analytic answers (issue: engine core).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
+#include "physics_scenes.hpp"
+
+using namespace nscd;
+using namespace nscd_test;
+
+namespace {
+
+Simulator makeSim(const std::string& xml, const std::vector<SettingOverride>& o = {}) {
+  return Simulator(loadSceneFromString(xml, "test.urdf", o));
+}
+
+// Complete elliptic integral of the first kind, by the arithmetic-geometric mean.
+double ellipticK(double k) {
+  double a = 1, b = std::sqrt(1 - k * k);
+  for (int i = 0; i < 40; ++i) {
+    const double an = 0.5 * (a + b);
+    b = std::sqrt(a * b);
+    a = an;
+  }
+  return M_PI / (2 * a);
+}
+
+}  // namespace
+
+// A sphere dropped from 1 m with e = 0.9 bounces to e^(2k) h0 (within 0.5%),
+// penetrating less than 1e-6 m.
+TEST(Physics, BouncingBallApexHeights) {
+  const double h0 = 1.0, e = 0.9, r = 0.05;
+  Simulator sim = makeSim(ballScene(h0, e, 0.0, 1e-4));
+  std::vector<double> apex;
+  double prev_vz = 0, max_pen = 0;
+  while (sim.state().t < 3.2 && apex.size() < 3) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    const BodyState& b = sim.state().bodies[0];
+    max_pen = std::max(max_pen, sim.stats().max_penetration);
+    max_pen = std::max(max_pen, r - b.x.z());
+    if (prev_vz > 0 && b.v.z() <= 0) {
+      // Apex between the two last steps: z + v^2 / 2g from the last state.
+      apex.push_back(b.x.z() - r + b.v.z() * b.v.z() / (2 * 9.81));
+    }
+    prev_vz = b.v.z();
+  }
+  ASSERT_EQ(apex.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    const double expected = h0 * std::pow(e, 2 * (k + 1));
+    EXPECT_NEAR(apex[k], expected, 0.005 * expected) << "bounce " << k + 1;
+  }
+  EXPECT_LT(max_pen, 1e-6);
+}
+
+// A box on a 15 degree slope with mu = 0.3 sticks: it moves less than 1e-6 m in 1 s.
+TEST(Physics, BlockSticksBelowFrictionAngle) {
+  const double alpha = 15 * M_PI / 180;
+  Simulator sim = makeSim(slopeScene(alpha, 0.3, 1e-4));
+  const Vec3 x0 = sim.state().bodies[0].x;
+  for (int k = 0; k < 10000; ++k) ASSERT_NE(sim.step(), StepStatus::NonFinite);
+  const double moved = (sim.state().bodies[0].x - x0).norm();
+  EXPECT_LT(moved, 1e-6);
+  // Normal force = m g cos(alpha) (within 0.5%).
+  EXPECT_NEAR(sim.contactNormalForce(0), 9.81 * std::cos(alpha), 0.005 * 9.81);
+}
+
+// On a 25 degree slope it slides with a = g (sin(alpha) - mu cos(alpha)) (within 1%).
+TEST(Physics, BlockSlidesAboveFrictionAngle) {
+  const double alpha = 25 * M_PI / 180, mu = 0.3, g = 9.81;
+  Simulator sim = makeSim(slopeScene(alpha, mu, 1e-4));
+  const Vec3 down(0, -std::cos(alpha), -std::sin(alpha));
+  for (int k = 0; k < 2000; ++k) ASSERT_NE(sim.step(), StepStatus::NonFinite);
+  const double v1 = sim.state().bodies[0].v.dot(down), t1 = sim.state().t;
+  for (int k = 0; k < 6000; ++k) ASSERT_NE(sim.step(), StepStatus::NonFinite);
+  const double v2 = sim.state().bodies[0].v.dot(down), t2 = sim.state().t;
+  const double a = (v2 - v1) / (t2 - t1);
+  const double expected = g * (std::sin(alpha) - mu * std::cos(alpha));
+  EXPECT_NEAR(a, expected, 0.01 * expected);
+  // It stays on the plane: no lift-off, no penetration beyond the projection tolerance.
+  EXPECT_LT(std::abs(sim.contactGap(0)), 1e-8);
+}
+
+// An ideal revolute pendulum released from 30 degrees has the exact large-amplitude
+// period T = 4 sqrt(I_O / (m g l)) K(sin(theta0/2)) (within 0.5%).
+TEST(Physics, PendulumLargeAmplitudePeriod) {
+  const double l = 1.0, m = 1.0, I = 1e-3, th0 = 30 * M_PI / 180, g = 9.81;
+  Simulator sim = makeSim(pendulumScene(l, m, I, th0, 1e-4));
+  const double T = 4 * std::sqrt((I + m * l * l) / (m * g * l)) * ellipticK(std::sin(th0 / 2));
+  // Times at which the angular velocity about y changes sign from - to + (turning points).
+  std::vector<double> turns;
+  double prev = 0;
+  while (sim.state().t < 2.6 * T) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    const double wy = sim.angularVelocityWorld(0).y();
+    if (prev < 0 && wy >= 0) turns.push_back(sim.state().t - sim.model().settings.dt * wy / (wy - prev));
+    prev = wy;
+  }
+  ASSERT_GE(turns.size(), 2u);
+  const double period = turns[1] - turns[0];
+  EXPECT_NEAR(period, T, 0.005 * T);
+  // The hinge keeps the pivot fixed.
+  EXPECT_LT(sim.constraintViolation(), 1e-9);
+}
+
+// Frictionless, e = 1, undamped: no energy gain over 1e5 steps at theta = 0.5.
+TEST(Physics, NoEnergyGainFrictionlessElastic) {
+  Simulator sim = makeSim(ballScene(0.2, 1.0, 0.0, 1e-4));
+  const double E0 = sim.energy().total();
+  double Emax = E0;
+  for (int k = 0; k < 100000; ++k) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    if (k % 100 == 0) Emax = std::max(Emax, sim.energy().total());
+  }
+  const double E1 = sim.energy().total();
+  EXPECT_LE(Emax, E0 * (1 + 1e-6));
+  EXPECT_LE(E1, E0 * (1 + 1e-6));
+  // and it does not dissipate much either (e = 1): within 2% after ~25 bounces.
+  EXPECT_GE(E1, 0.98 * E0);
+}
+
+// A closed four-bar written with a loop joint assembles and keeps its constraint
+// violation below 1e-9 m over 1 s.
+TEST(Physics, FourBarLoopStaysClosed) {
+  Simulator sim = makeSim(fourBarScene(M_PI / 2, 5.0, 1e-4, 2e-3));  // 2 mm mismatch at start
+  EXPECT_LT(sim.constraintViolation(), 1e-9);
+  double worst = 0;
+  for (int k = 0; k < 10000; ++k) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    if (k % 10 == 0) worst = std::max(worst, sim.constraintViolation());
+  }
+  EXPECT_LT(worst, 1e-9);
+  // It moved: the crank turned.
+  EXPECT_GT(sim.angularVelocityWorld(0).norm() + 1e-12, 0.0);
+}
+
+// A spring-mass oscillator matches its analytic period 2 pi sqrt(m/k) (0.1%) and amplitude.
+TEST(Physics, SpringMassPeriod) {
+  const double m = 1.0, k = 100.0, A = 0.1;
+  Simulator sim = makeSim(springMassScene(m, k, A, 1e-4));
+  const double T = 2 * M_PI * std::sqrt(m / k);
+  std::vector<double> turns;
+  double prev = 0, xmin = 1e9;
+  while (sim.state().t < 3.2 * T) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    const double vx = sim.state().bodies[0].v.x();
+    xmin = std::min(xmin, sim.state().bodies[0].x.x());
+    if (prev < 0 && vx >= 0) turns.push_back(sim.state().t - sim.model().settings.dt * vx / (vx - prev));
+    prev = vx;
+  }
+  ASSERT_GE(turns.size(), 3u);
+  EXPECT_NEAR((turns[2] - turns[0]) / 2, T, 1e-3 * T);
+  EXPECT_NEAR(xmin, 0.5 - 2 * A, 1e-3 * A);
+  EXPECT_NEAR(sim.springForce(0), k * (sim.state().bodies[0].x.x() - 0.4), 1e-6);
+}
