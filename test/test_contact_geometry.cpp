@@ -1,0 +1,658 @@
+// Narrow phase: every supported shape pair against analytic configurations,
+// symmetry under swapping A and B, margin filtering, degenerate inputs, and the
+// first-order consistency of normal and points with the gap (what the engine
+// builds Jacobian rows from) against finite rigid displacements.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <cstdio>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "nscd_sim/contact_geometry.hpp"
+
+using namespace nscd;
+
+// Counts heap allocations, to check that the geometry allocates nothing.
+static std::atomic<long> g_allocations{0};
+__attribute__((noinline)) void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTol = 1e-12;
+
+Shape sphere(double r) {
+  Shape s;
+  s.type = ShapeType::Sphere;
+  s.radius = r;
+  return s;
+}
+Shape capsule(double r, double len) {
+  Shape s;
+  s.type = ShapeType::Capsule;
+  s.radius = r;
+  s.length = len;
+  return s;
+}
+Shape cylinder(double r, double len) {
+  Shape s;
+  s.type = ShapeType::Cylinder;
+  s.radius = r;
+  s.length = len;
+  return s;
+}
+Shape box(const Vec3& h) {
+  Shape s;
+  s.type = ShapeType::Box;
+  s.half_extents = h;
+  return s;
+}
+Shape plane() {
+  Shape s;
+  s.type = ShapeType::Plane;
+  return s;
+}
+
+Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
+Quat rotAbout(const Vec3& axis, double angle) {
+  return Quat(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+Vec3 randUnit(std::mt19937_64& rng) {
+  std::normal_distribution<double> nd;
+  Vec3 v(nd(rng), nd(rng), nd(rng));
+  return v.normalized();
+}
+Quat randQuat(std::mt19937_64& rng) {
+  std::normal_distribution<double> nd;
+  Quat q(nd(rng), nd(rng), nd(rng), nd(rng));
+  return q.normalized();
+}
+double uni(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+// Invariants every contact point must satisfy.
+void expectWellFormed(const ContactPoint& cp, double margin) {
+  ASSERT_TRUE(cp.point_a.allFinite());
+  ASSERT_TRUE(cp.point_b.allFinite());
+  ASSERT_TRUE(cp.normal.allFinite());
+  ASSERT_TRUE(std::isfinite(cp.gap));
+  EXPECT_NEAR(cp.normal.norm(), 1.0, 1e-14);
+  EXPECT_NEAR((cp.point_a - cp.point_b).dot(cp.normal), cp.gap, 1e-13);
+  EXPECT_LT(cp.gap, margin);
+}
+
+int run(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
+        ContactPoint* out) {
+  for (int i = 0; i < kMaxPointsPerPair; ++i) out[i].gap = std::nan("");  // poison
+  const int n = collide(a, pa, b, pb, margin, out);
+  EXPECT_GE(n, 0);
+  EXPECT_LE(n, kMaxPointsPerPair);
+  for (int i = 0; i < n; ++i) expectWellFormed(out[i], margin);
+  return n;
+}
+
+const ContactPoint* byFeature(const ContactPoint* pts, int n, int feature) {
+  for (int i = 0; i < n; ++i)
+    if (pts[i].feature == feature) return &pts[i];
+  return nullptr;
+}
+
+void expectVecNear(const Vec3& a, const Vec3& b, double tol) {
+  EXPECT_LE((a - b).norm(), tol) << "got " << a.transpose() << " expected " << b.transpose();
+}
+
+}  // namespace
+
+TEST(ContactGeometry, SupportedPairs) {
+  using T = ShapeType;
+  const T yes[][2] = {{T::Sphere, T::Plane},  {T::Sphere, T::Sphere},   {T::Sphere, T::Box},
+                      {T::Sphere, T::Capsule}, {T::Capsule, T::Plane},  {T::Box, T::Plane},
+                      {T::Capsule, T::Capsule}, {T::Cylinder, T::Plane}};
+  for (auto& p : yes) {
+    EXPECT_TRUE(shapePairSupported(p[0], p[1]));
+    EXPECT_TRUE(shapePairSupported(p[1], p[0]));
+  }
+  const T no[][2] = {{T::Plane, T::Plane},     {T::Box, T::Box},         {T::Cylinder, T::Cylinder},
+                     {T::Sphere, T::Cylinder}, {T::Capsule, T::Box},     {T::Capsule, T::Cylinder},
+                     {T::Cylinder, T::Box}};
+  for (auto& p : no) {
+    EXPECT_FALSE(shapePairSupported(p[0], p[1]));
+    EXPECT_FALSE(shapePairSupported(p[1], p[0]));
+  }
+  ContactPoint out[kMaxPointsPerPair];
+  EXPECT_EQ(collide(box(Vec3(1, 1, 1)), Pose{}, box(Vec3(1, 1, 1)), Pose{}, 1.0, out), 0);
+}
+
+TEST(ContactGeometry, SpherePlaneOnTiltedPlane) {
+  const Quat qp = rotAbout(Vec3(1, 2, 0.5), 0.7);
+  const Vec3 p0(0.3, -0.2, 0.1);
+  const Vec3 m = qp * Vec3::UnitZ();
+  const Vec3 t = anyOrthogonal(m);
+  const double r = 0.05;
+  ContactPoint out[kMaxPointsPerPair];
+  for (double g : {0.0, 0.01, -0.003}) {
+    const Vec3 c = p0 + 0.4 * t + (r + g) * m;
+    ASSERT_EQ(run(sphere(r), at(c), plane(), at(p0, qp), 0.02, out), 1);
+    EXPECT_NEAR(out[0].gap, g, kTol);
+    expectVecNear(out[0].normal, m, kTol);
+    expectVecNear(out[0].point_a, c - r * m, kTol);
+    expectVecNear(out[0].point_b, p0 + 0.4 * t, kTol);
+    EXPECT_EQ(out[0].feature, 0);
+  }
+  // Separated beyond the margin: nothing.
+  EXPECT_EQ(run(sphere(r), at(p0 + (r + 0.03) * m), plane(), at(p0, qp), 0.02, out), 0);
+  // Centre below the plane surface: still one point, deeply negative.
+  ASSERT_EQ(run(sphere(r), at(p0 - 0.2 * m), plane(), at(p0, qp), 0.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -0.25, kTol);
+}
+
+TEST(ContactGeometry, SphereSphere) {
+  ContactPoint out[kMaxPointsPerPair];
+  const Vec3 cb(0.1, 0.2, 0.3), dir = Vec3(1, -2, 2) / 3.0;
+  for (double g : {0.0, 0.02, -0.05}) {
+    const Vec3 ca = cb + (0.3 + 0.2 + g) * dir;
+    ASSERT_EQ(run(sphere(0.3), at(ca), sphere(0.2), at(cb), 0.05, out), 1);
+    EXPECT_NEAR(out[0].gap, g, kTol);
+    expectVecNear(out[0].normal, dir, kTol);
+    expectVecNear(out[0].point_a, ca - 0.3 * dir, kTol);
+    expectVecNear(out[0].point_b, cb + 0.2 * dir, kTol);
+  }
+  EXPECT_EQ(run(sphere(0.3), at(cb + 0.6 * dir), sphere(0.2), at(cb), 0.05, out), 0);
+  // Concentric: some unit normal, gap = -(ra + rb), same answer every time.
+  ASSERT_EQ(run(sphere(0.3), at(cb), sphere(0.2), at(cb), 0.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -0.5, kTol);
+  ContactPoint again[kMaxPointsPerPair];
+  ASSERT_EQ(run(sphere(0.3), at(cb), sphere(0.2), at(cb), 0.0, again), 1);
+  EXPECT_EQ(out[0].normal, again[0].normal);
+}
+
+TEST(ContactGeometry, SphereBoxFaceEdgeCornerInside) {
+  const Vec3 h(0.1, 0.2, 0.3);
+  const Quat qb = rotAbout(Vec3(0.3, -1, 0.4), 1.1);
+  const Vec3 pb(0.5, 0.1, -0.2);
+  const Pose box_pose = at(pb, qb);
+  const double r = 0.05;
+  ContactPoint out[kMaxPointsPerPair];
+  auto W = [&](const Vec3& l) { return box_pose.apply(l); };
+  auto D = [&](const Vec3& l) { return Vec3(qb * l); };
+  // Face +y, separated by 0.01.
+  {
+    const Vec3 c = W(Vec3(0.03, 0.2 + r + 0.01, -0.1));
+    ASSERT_EQ(run(sphere(r), at(c), box(h), box_pose, 0.1, out), 1);
+    EXPECT_NEAR(out[0].gap, 0.01, kTol);
+    expectVecNear(out[0].normal, D(Vec3::UnitY()), kTol);
+    expectVecNear(out[0].point_b, W(Vec3(0.03, 0.2, -0.1)), kTol);
+  }
+  // Edge (+x, -z), diagonal direction, penetrating by 0.02.
+  {
+    const Vec3 dl = Vec3(1, 0, -1).normalized();
+    const Vec3 edge(0.1, 0.05, -0.3);
+    const Vec3 c = W(edge + (r - 0.02) * dl);
+    ASSERT_EQ(run(sphere(r), at(c), box(h), box_pose, 0.0, out), 1);
+    EXPECT_NEAR(out[0].gap, -0.02, kTol);
+    expectVecNear(out[0].normal, D(dl), kTol);
+    expectVecNear(out[0].point_b, W(edge), kTol);
+  }
+  // Corner (-x, +y, +z).
+  {
+    const Vec3 dl = Vec3(-1, 2, 2) / 3.0;
+    const Vec3 corner(-0.1, 0.2, 0.3);
+    const Vec3 c = W(corner + (r + 0.004) * dl);
+    ASSERT_EQ(run(sphere(r), at(c), box(h), box_pose, 0.01, out), 1);
+    EXPECT_NEAR(out[0].gap, 0.004, kTol);
+    expectVecNear(out[0].normal, D(dl), kTol);
+    expectVecNear(out[0].point_b, W(corner), kTol);
+  }
+  // Centre inside, nearest face is -x (depth 0.03): gap = -0.03 - r.
+  {
+    const Vec3 c = W(Vec3(-0.07, 0.05, 0.1));
+    ASSERT_EQ(run(sphere(r), at(c), box(h), box_pose, 0.0, out), 1);
+    EXPECT_NEAR(out[0].gap, -0.03 - r, kTol);
+    expectVecNear(out[0].normal, D(-Vec3::UnitX()), kTol);
+    expectVecNear(out[0].point_b, W(Vec3(-0.1, 0.05, 0.1)), kTol);
+    expectVecNear(out[0].point_a, c - r * D(-Vec3::UnitX()), kTol);
+  }
+  // Centre exactly at the centre of a cube: finite, depth = half extent.
+  ASSERT_EQ(run(sphere(r), at(pb), box(Vec3(0.1, 0.1, 0.1)), box_pose, 0.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -0.1 - r, kTol);
+  // Far away: nothing.
+  EXPECT_EQ(run(sphere(r), at(W(Vec3(0, 0, 0.5))), box(h), box_pose, 0.1, out), 0);
+}
+
+TEST(ContactGeometry, SphereCapsule) {
+  const Quat qc = rotAbout(Vec3(1, 1, 0), 0.6);
+  const Vec3 pc(0, 0.1, 0.2);
+  const Vec3 u = qc * Vec3::UnitZ(), t = anyOrthogonal(u);
+  const double rs = 0.02, rc = 0.03, len = 0.4;
+  ContactPoint out[kMaxPointsPerPair];
+  // Beside the cylindrical part.
+  {
+    const Vec3 c = pc + 0.1 * u + (rs + rc + 0.005) * t;
+    ASSERT_EQ(run(sphere(rs), at(c), capsule(rc, len), at(pc, qc), 0.01, out), 1);
+    EXPECT_NEAR(out[0].gap, 0.005, kTol);
+    expectVecNear(out[0].normal, t, kTol);
+    expectVecNear(out[0].point_b, pc + 0.1 * u + rc * t, kTol);
+  }
+  // Beyond the -z end cap, along a slanted direction.
+  {
+    const Vec3 dir = (-u + 0.5 * t).normalized();
+    const Vec3 end = pc - 0.5 * len * u;
+    const Vec3 c = end + (rs + rc - 0.01) * dir;
+    ASSERT_EQ(run(sphere(rs), at(c), capsule(rc, len), at(pc, qc), 0.0, out), 1);
+    EXPECT_NEAR(out[0].gap, -0.01, kTol);
+    expectVecNear(out[0].normal, dir, kTol);
+    expectVecNear(out[0].point_b, end + rc * dir, kTol);
+  }
+  // Centre on the axis: finite normal orthogonal to the axis.
+  ASSERT_EQ(run(sphere(rs), at(pc + 0.05 * u), capsule(rc, len), at(pc, qc), 0.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -rs - rc, kTol);
+  EXPECT_NEAR(out[0].normal.dot(u), 0.0, kTol);
+}
+
+TEST(ContactGeometry, CapsulePlaneFlatAndTilted) {
+  const double r = 0.01, len = 0.2;
+  ContactPoint out[kMaxPointsPerPair];
+  // Lying flat along x on z = 0: two points, gap 0, features 0 (-L/2) and 1 (+L/2).
+  const Quat lying = rotAbout(Vec3::UnitY(), kPi / 2);  // capsule z -> world x
+  ASSERT_EQ(run(capsule(r, len), at(Vec3(0, 0, r), lying), plane(), Pose{}, 1e-6, out), 2);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(out[i].gap, 0.0, kTol);
+    expectVecNear(out[i].normal, Vec3::UnitZ(), kTol);
+  }
+  const ContactPoint* f0 = byFeature(out, 2, 0);
+  const ContactPoint* f1 = byFeature(out, 2, 1);
+  ASSERT_TRUE(f0 && f1);
+  expectVecNear(f0->point_a, Vec3(-0.1, 0, 0), kTol);  // lying maps capsule -z to world -x
+  expectVecNear(f1->point_a, Vec3(0.1, 0, 0), kTol);
+  // Tilted by 30 deg: end heights zc -/+ (L/2) sin30.
+  const Quat tilt = rotAbout(Vec3::UnitY(), kPi / 2 - kPi / 6);
+  const double zc = 0.06;
+  ASSERT_EQ(run(capsule(r, len), at(Vec3(0, 0, zc), tilt), plane(), Pose{}, 1.0, out), 2);
+  const double lo = zc - 0.1 * std::sin(kPi / 6) - r, hi = zc + 0.1 * std::sin(kPi / 6) - r;
+  ASSERT_TRUE(byFeature(out, 2, 0) && byFeature(out, 2, 1));
+  // Capsule +z points to world +x and up: feature 1 is the high end.
+  EXPECT_NEAR(byFeature(out, 2, 0)->gap, lo, kTol);
+  EXPECT_NEAR(byFeature(out, 2, 1)->gap, hi, kTol);
+  // Margin between the two gaps keeps only the low end.
+  ASSERT_EQ(run(capsule(r, len), at(Vec3(0, 0, zc), tilt), plane(), Pose{}, 0.5 * (lo + hi), out), 1);
+  EXPECT_EQ(out[0].feature, 0);
+}
+
+TEST(ContactGeometry, BoxPlaneRestingFlatGivesFourPoints) {
+  const Vec3 h(0.1, 0.2, 0.05);
+  ContactPoint out[kMaxPointsPerPair];
+  const int n = run(box(h), at(Vec3(0.3, -0.4, 0.05)), plane(), Pose{}, 1e-3, out);
+  ASSERT_EQ(n, 4);
+  int seen = 0;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(out[i].gap, 0.0);
+    EXPECT_GE(out[i].feature, 0);
+    EXPECT_LE(out[i].feature, 3);  // the -z corners: index bit 2 clear
+    seen |= 1 << out[i].feature;
+    expectVecNear(out[i].normal, Vec3::UnitZ(), 0);
+  }
+  EXPECT_EQ(seen, 0xF);
+  // Rotated plane and box together: still 4 points at gap ~0.
+  const Quat q = rotAbout(Vec3(0.2, 1, -0.3), 0.9);
+  const Pose pp = at(Vec3(1, 2, 3), q);
+  const Pose pbx = pp * at(Vec3(0.3, -0.4, 0.05), rotAbout(Vec3::UnitZ(), 0.4));
+  ASSERT_EQ(run(box(h), pbx, plane(), pp, 1e-3, out), 4);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(out[i].gap, 0.0, kTol);
+  // Lifted above the margin: nothing.
+  EXPECT_EQ(run(box(h), at(Vec3(0, 0, 0.0511)), plane(), Pose{}, 1e-3, out), 0);
+}
+
+TEST(ContactGeometry, BoxPlaneTiltedDeepestCorners) {
+  const Vec3 h(0.1, 0.2, 0.05);
+  const double th = 0.1;
+  ContactPoint out[kMaxPointsPerPair];
+  // Rotation about y by +th lowers the +x corners: z' = -x sin th + z cos th.
+  const Quat q = rotAbout(Vec3::UnitY(), th);
+  const double zc = h.x() * std::sin(th) + h.z() * std::cos(th) - 0.002;  // 2 mm deep
+  const int n = run(box(h), at(Vec3(0, 0, zc), q), plane(), Pose{}, 0.01, out);
+  ASSERT_EQ(n, 2);  // -x bottom corners are 2 hx sin th - 2mm = 18 mm up: filtered
+  for (int i = 0; i < n; ++i) {
+    EXPECT_TRUE(out[i].feature == 1 || out[i].feature == 3) << out[i].feature;
+    EXPECT_NEAR(out[i].gap, -0.002, kTol);
+  }
+  // Random orientations: the 4 deepest of the brute-force corner list.
+  std::mt19937_64 rng(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Pose pb = at(Vec3(uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -1, 1)), randQuat(rng));
+    const Pose pa = pb * at(Vec3(uni(rng, -1, 1), uni(rng, -1, 1), uni(rng, -0.1, 0.2)), randQuat(rng));
+    const double margin = uni(rng, -0.1, 0.3);
+    std::vector<std::pair<double, int>> all;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 l((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+      const double g = (pb.q.conjugate() * (pa.apply(l) - pb.p)).z();
+      if (g < margin) all.push_back({g, i});
+    }
+    std::sort(all.begin(), all.end());
+    const int want = std::min<int>(4, all.size());
+    const int got = run(box(h), pa, plane(), pb, margin, out);
+    ASSERT_EQ(got, want);
+    for (int j = 0; j < want; ++j) {
+      const ContactPoint* cp = byFeature(out, got, all[j].second);
+      ASSERT_TRUE(cp) << "corner " << all[j].second;
+      EXPECT_NEAR(cp->gap, all[j].first, kTol);
+    }
+  }
+}
+
+// Distance between two segments by brute force: the distance from A(s) to
+// segment B is convex in s, so golden section over s finds the minimum.
+static double segmentDistance(const Vec3& pa, const Vec3& u, double ha, const Vec3& pb,
+                              const Vec3& v, double hb) {
+  auto dist = [&](double s) {
+    const Vec3 x = pa + s * u;
+    const double t = std::clamp(v.dot(x - pb), -hb, hb);
+    return (x - pb - t * v).norm();
+  };
+  double lo = -ha, hi = ha;
+  const double g = 0.3819660112501051;
+  for (int it = 0; it < 120; ++it) {
+    const double x1 = lo + g * (hi - lo), x2 = hi - g * (hi - lo);
+    if (dist(x1) <= dist(x2)) hi = x2; else lo = x1;
+  }
+  return std::min({dist(0.5 * (lo + hi)), dist(-ha), dist(ha)});
+}
+
+TEST(ContactGeometry, CapsuleCapsuleAgainstBruteForce) {
+  std::mt19937_64 rng(11);
+  ContactPoint out[kMaxPointsPerPair];
+  for (int trial = 0; trial < 500; ++trial) {
+    const Shape a = capsule(uni(rng, 0.01, 0.05), uni(rng, 0.0, 0.4));
+    const Shape b = capsule(uni(rng, 0.01, 0.05), uni(rng, 0.0, 0.4));
+    const Pose pa = at(Vec3(uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2)), randQuat(rng));
+    const Pose pb = at(Vec3(uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2)), randQuat(rng));
+    const int n = run(a, pa, b, pb, 1.0, out);
+    ASSERT_EQ(n, 1);
+    const double d = segmentDistance(pa.p, pa.rotate(Vec3::UnitZ()), 0.5 * a.length, pb.p,
+                                     pb.rotate(Vec3::UnitZ()), 0.5 * b.length);
+    EXPECT_NEAR(out[0].gap, d - a.radius - b.radius, 1e-12);
+  }
+}
+
+TEST(ContactGeometry, CapsuleCapsuleCrossedAndParallel) {
+  ContactPoint out[kMaxPointsPerPair];
+  const double r = 0.01;
+  // Perpendicular, crossing above each other at height 0.025.
+  const Pose pa = at(Vec3(0, 0, 0.025), rotAbout(Vec3::UnitY(), kPi / 2));  // along x
+  const Pose pb = at(Vec3::Zero(), rotAbout(Vec3::UnitX(), kPi / 2));       // along y
+  ASSERT_EQ(run(capsule(r, 0.2), pa, capsule(r, 0.2), pb, 0.1, out), 1);
+  EXPECT_NEAR(out[0].gap, 0.005, kTol);
+  expectVecNear(out[0].normal, Vec3::UnitZ(), kTol);
+  expectVecNear(out[0].point_a, Vec3(0, 0, 0.015), kTol);
+  expectVecNear(out[0].point_b, Vec3(0, 0, 0.01), kTol);
+  // Parallel along x, B 0.02 below A, A spans [-0.1, 0.1], B spans [0.05, 0.35]:
+  // overlap [0.05, 0.1] -> two points, gap 0.
+  const Quat alongX = rotAbout(Vec3::UnitY(), kPi / 2);
+  const Pose qa = at(Vec3(0, 0, 0.02), alongX);
+  const Pose qb = at(Vec3(0.2, 0, 0), alongX);
+  ASSERT_EQ(run(capsule(r, 0.2), qa, capsule(r, 0.3), qb, 1e-6, out), 2);
+  std::vector<double> xs;
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(out[i].gap, 0.0, kTol);
+    expectVecNear(out[i].normal, Vec3::UnitZ(), kTol);
+    EXPECT_NEAR(out[i].point_a.z(), 0.01, kTol);
+    EXPECT_NEAR(out[i].point_b.z(), 0.01, kTol);
+    EXPECT_NEAR(out[i].point_a.x(), out[i].point_b.x(), kTol);
+    xs.push_back(out[i].point_a.x());
+  }
+  std::sort(xs.begin(), xs.end());
+  EXPECT_NEAR(xs[0], 0.05, kTol);
+  EXPECT_NEAR(xs[1], 0.1, kTol);
+  EXPECT_NE(out[0].feature, out[1].feature);
+  // B reversed (antiparallel): the same two points.
+  const Pose qbr = at(Vec3(0.2, 0, 0), rotAbout(Vec3::UnitY(), -kPi / 2));
+  ASSERT_EQ(run(capsule(r, 0.2), qa, capsule(r, 0.3), qbr, 1e-6, out), 2);
+  xs = {out[0].point_a.x(), out[1].point_a.x()};
+  std::sort(xs.begin(), xs.end());
+  EXPECT_NEAR(xs[0], 0.05, kTol);
+  EXPECT_NEAR(xs[1], 0.1, kTol);
+  // Parallel, disjoint along the axis: one point between the facing ends.
+  const Pose qfar = at(Vec3(0.5, 0, 0), alongX);
+  ASSERT_EQ(run(capsule(r, 0.2), qa, capsule(r, 0.3), qfar, 1.0, out), 1);
+  const double dx = 0.35 - 0.1;
+  EXPECT_NEAR(out[0].gap, std::hypot(dx, 0.02) - 2 * r, kTol);
+  // Coaxial overlapping: finite, normal orthogonal to the axis.
+  const int n = run(capsule(r, 0.2), at(Vec3::Zero(), alongX), capsule(r, 0.3), qb, 0.0, out);
+  ASSERT_EQ(n, 2);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(out[i].gap, -2 * r, kTol);
+    EXPECT_NEAR(out[i].normal.x(), 0.0, kTol);
+  }
+  // Axes intersecting (not parallel): finite, gap = -(ra + rb).
+  ASSERT_EQ(run(capsule(r, 0.2), at(Vec3::Zero(), alongX), capsule(r, 0.2), pb, 0.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -2 * r, kTol);
+}
+
+TEST(ContactGeometry, CylinderPlane) {
+  const double r = 0.03, len = 0.1;
+  ContactPoint out[kMaxPointsPerPair];
+  // Lying on its side along x: the bottom rim point of each end disc, gap 0.
+  const Quat lying = rotAbout(Vec3::UnitY(), kPi / 2);
+  ASSERT_EQ(run(cylinder(r, len), at(Vec3(0, 0, r), lying), plane(), Pose{}, 1e-6, out), 2);
+  for (int k = 0; k < 2; ++k) {
+    const ContactPoint* cp = byFeature(out, 2, k);
+    ASSERT_TRUE(cp);
+    EXPECT_NEAR(cp->gap, 0.0, kTol);
+    expectVecNear(cp->point_a, Vec3(k == 0 ? -0.05 : 0.05, 0, 0), kTol);
+  }
+  // Tilted: axis at angle th from the vertical; lowest rim point of the lower
+  // disc at zc - (L/2) cos th - r sin th, of the upper disc at zc + (L/2) cos th - r sin th.
+  const double th = 0.3, zc = 0.2;
+  const Quat q = rotAbout(Vec3::UnitY(), th);
+  ASSERT_EQ(run(cylinder(r, len), at(Vec3(0, 0, zc), q), plane(), Pose{}, 1.0, out), 2);
+  EXPECT_NEAR(byFeature(out, 2, 0)->gap, zc - 0.05 * std::cos(th) - r * std::sin(th), kTol);
+  EXPECT_NEAR(byFeature(out, 2, 1)->gap, zc + 0.05 * std::cos(th) - r * std::sin(th), kTol);
+  // Standing on its end disc: three rim points (0/120/240 deg), gap 0; the top
+  // disc adds three more with a large margin.
+  ASSERT_EQ(run(cylinder(r, len), at(Vec3(0, 0, 0.05)), plane(), Pose{}, 1e-6, out), 3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(out[i].gap, 0.0, kTol);
+    EXPECT_EQ(out[i].feature, i);
+    EXPECT_NEAR(out[i].point_a.head<2>().norm(), r, kTol);
+  }
+  EXPECT_NEAR(out[0].point_a.x(), r, kTol);  // 0 deg = shape frame x
+  ASSERT_EQ(run(cylinder(r, len), at(Vec3(0, 0, 0.05)), plane(), Pose{}, 1.0, out), 6);
+  for (int i = 3; i < 6; ++i) {
+    EXPECT_EQ(out[i].feature, i);
+    EXPECT_NEAR(out[i].gap, len, kTol);
+  }
+  // Upside down (axis = -normal): the same, no NaN.
+  ASSERT_EQ(run(cylinder(r, len), at(Vec3(0, 0, 0.05), rotAbout(Vec3::UnitX(), kPi)), plane(),
+                Pose{}, 1e-6, out), 3);
+}
+
+// Random configurations for every supported pair, near contact.
+struct PairCase {
+  Shape a, b;
+  Pose pa, pb;
+};
+
+static std::vector<PairCase> randomCases(std::mt19937_64& rng, int per_pair) {
+  std::vector<PairCase> cases;
+  auto pose = [&](double s) {
+    return at(Vec3(uni(rng, -s, s), uni(rng, -s, s), uni(rng, -s, s)), randQuat(rng));
+  };
+  for (int i = 0; i < per_pair; ++i) {
+    const Pose p0 = pose(0.5);
+    const Vec3 m = p0.rotate(Vec3::UnitZ());
+    auto abovePlane = [&](double h) {
+      return at(p0.p + anyOrthogonal(m) * uni(rng, -0.3, 0.3) + h * m, randQuat(rng));
+    };
+    cases.push_back({sphere(0.05), plane(), abovePlane(uni(rng, 0.0, 0.1)), p0});
+    cases.push_back({capsule(0.03, 0.2), plane(), abovePlane(uni(rng, 0.0, 0.15)), p0});
+    cases.push_back({box(Vec3(0.05, 0.1, 0.07)), plane(), abovePlane(uni(rng, 0.0, 0.15)), p0});
+    cases.push_back({cylinder(0.04, 0.12), plane(), abovePlane(uni(rng, 0.0, 0.12)), p0});
+    const Pose q = pose(0.1);
+    cases.push_back({sphere(0.05), sphere(0.07), pose(0.1), q});
+    cases.push_back({sphere(0.05), box(Vec3(0.05, 0.1, 0.07)), pose(0.15), q});
+    cases.push_back({sphere(0.05), capsule(0.03, 0.2), pose(0.15), q});
+    cases.push_back({capsule(0.02, 0.15), capsule(0.03, 0.2), pose(0.1), q});
+  }
+  return cases;
+}
+
+TEST(ContactGeometry, SwappingFlipsNormalAndSwapsPoints) {
+  std::mt19937_64 rng(3);
+  ContactPoint ab[kMaxPointsPerPair], ba[kMaxPointsPerPair];
+  int compared = 0;
+  for (const PairCase& c : randomCases(rng, 50)) {
+    const int n = run(c.a, c.pa, c.b, c.pb, 0.05, ab);
+    const int m = run(c.b, c.pb, c.a, c.pa, 0.05, ba);
+    ASSERT_EQ(n, m);
+    for (int i = 0; i < n; ++i) {
+      const ContactPoint* s = byFeature(ba, m, ab[i].feature);
+      ASSERT_TRUE(s);
+      EXPECT_NEAR(s->gap, ab[i].gap, 1e-14);
+      expectVecNear(s->normal, -ab[i].normal, 1e-12);
+      expectVecNear(s->point_a, ab[i].point_b, 1e-12);
+      expectVecNear(s->point_b, ab[i].point_a, 1e-12);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 200);
+}
+
+TEST(ContactGeometry, MarginFiltersEveryPair) {
+  std::mt19937_64 rng(5);
+  ContactPoint all[kMaxPointsPerPair], some[kMaxPointsPerPair];
+  for (const PairCase& c : randomCases(rng, 30)) {
+    const int n = run(c.a, c.pa, c.b, c.pb, 10.0, all);
+    if (n == 0) continue;
+    // A margin between the gaps keeps exactly the points below it.
+    std::vector<double> g;
+    for (int i = 0; i < n; ++i) g.push_back(all[i].gap);
+    std::sort(g.begin(), g.end());
+    const double cut = g.size() > 1 && g[1] > g[0] + 1e-9 ? 0.5 * (g[0] + g[1]) : g[0] - 1e-9;
+    const int m = run(c.a, c.pa, c.b, c.pb, cut, some);
+    int want = 0;
+    for (int i = 0; i < n; ++i) want += all[i].gap < cut;
+    if (c.a.type == ShapeType::Box) want = std::min(want, 4);
+    EXPECT_EQ(m, want);
+    for (int i = 0; i < m; ++i) EXPECT_LT(some[i].gap, cut);
+  }
+}
+
+// Second-order remainder allowed for the first-order prediction of the gap
+// change under a rigid displacement (dt, dw) about `origin`, for a contact whose
+// two points are within `lever` of the origin: those points move by
+// s = |dt| + |dw| lever, the gap has curvature <= curv (1/m) along that motion,
+// the rotation itself is second order beyond its linear part by
+// lever |dw|^2 / 2, and a rotating normal couples with the translation (|dt||dw|).
+static double secondOrder(double curv, const Vec3& dt, const Vec3& dw, const ContactPoint& cp,
+                          const Vec3& origin) {
+  const double lever = std::max((cp.point_a - origin).norm(), (cp.point_b - origin).norm());
+  const double s = dt.norm() + dw.norm() * lever;
+  return curv * s * s + lever * dw.squaredNorm() + dt.norm() * dw.norm();
+}
+
+// Radius swept around the core (point or segment) of round shapes.
+static double roundRadius(const Shape& s) {
+  return (s.type == ShapeType::Sphere || s.type == ShapeType::Capsule) ? s.radius : 0.0;
+}
+
+// First-order consistency of (normal, points) with the gap: for small rigid
+// displacements (dt, dw) of body A about its origin oA,
+//   gap' - gap = N.dt + ((point_a - oA) x N).dw + O(h^2),
+// and for body B the same with the opposite sign using point_b. The shapes sit
+// in their bodies at random offsets (lever arms up to ~0.3 m).
+TEST(ContactGeometry, NormalAndPointsMatchFiniteDifferences) {
+  std::mt19937_64 rng(9);
+  const double h = 1e-7;  // |dt|, and |dw| * 0.1 m
+  double worst = 0;
+  int checked = 0;
+  int per_pair[5][5] = {};
+  const std::vector<PairCase> cases = randomCases(rng, 25);
+  for (const PairCase& c : cases) {
+    ContactPoint base[kMaxPointsPerPair], moved[kMaxPointsPerPair];
+    const int n = run(c.a, c.pa, c.b, c.pb, 0.05, base);
+    // Skip configurations where a feature is at a switch (parallel pairs, ties).
+    const Pose bodyA = c.pa * at(Vec3(uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2)), randQuat(rng));
+    const Pose bodyB = c.pb * at(Vec3(uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2), uni(rng, -0.2, 0.2)), randQuat(rng));
+    const Pose shapeInA = bodyA.inverse() * c.pa, shapeInB = bodyB.inverse() * c.pb;
+    for (int side = 0; side < 2; ++side) {
+      for (int rep = 0; rep < 3; ++rep) {
+        const Vec3 dt = h * randUnit(rng), dw = (h / 0.1) * randUnit(rng);
+        const Pose& body = side == 0 ? bodyA : bodyB;
+        const Pose disp{body.p + dt, (expMap(dw) * body.q).normalized()};
+        const Pose pa2 = side == 0 ? disp * shapeInA : c.pa;
+        const Pose pb2 = side == 1 ? disp * shapeInB : c.pb;
+        const int m = collide(c.a, pa2, c.b, pb2, 0.05, moved);
+        for (int i = 0; i < n; ++i) {
+          const ContactPoint* mv = byFeature(moved, m, base[i].feature);
+          if (!mv) continue;  // left the margin
+          const Vec3& pt = side == 0 ? base[i].point_a : base[i].point_b;
+          const double pred = (side == 0 ? 1 : -1) *
+                              (base[i].normal.dot(dt) + (pt - body.p).cross(base[i].normal).dot(dw));
+          const double err = std::abs(mv->gap - base[i].gap - pred);
+          // The gap's curvature is at most 1/D (D = distance of the cores:
+          // segment, point, box; none when they overlap, the gap is then
+          // piecewise linear). Factor 2 spare, 1e-15 m round-off floor.
+          const double D = base[i].gap + roundRadius(c.a) + roundRadius(c.b);
+          const double bound = secondOrder(D > 0 ? 1.0 / D : 0.0, dt, dw, base[i], body.p);
+          EXPECT_LT(err, 2 * bound + 1e-15) << "types " << int(c.a.type) << "," << int(c.b.type)
+                                            << " feature " << base[i].feature;
+          worst = std::max(worst, err / bound);
+          ++checked;
+          ++per_pair[int(c.a.type)][int(c.b.type)];
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 500);
+  for (int i = 0; i < 8; ++i)  // every pair type was exercised
+    EXPECT_GT(per_pair[int(cases[i].a.type)][int(cases[i].b.type)], 20) << "case " << i;
+  std::printf("collide FD: %d checks, max |error| / second-order bound = %.3g (|dt| = %.0e m)\n",
+              checked, worst, h);
+}
+
+// The same check must fail when the lever arm is wrong: it has teeth.
+TEST(ContactGeometry, FiniteDifferenceCheckDetectsWrongLeverArm) {
+  ContactPoint base[kMaxPointsPerPair], moved[kMaxPointsPerPair];
+  const Pose pa = at(Vec3(0.05, 0.02, 0.049), rotAbout(Vec3(1, 0, 0), 0.3));
+  ASSERT_EQ(run(sphere(0.05), pa, plane(), Pose{}, 0.01, base), 1);
+  const double h = 1e-7;
+  const Vec3 dw = (h / 0.1) * Vec3(0, 1, 0);
+  const Vec3 body(0.25, 0, 0.049);  // body origin off the sphere centre
+  const Pose disp{body, Quat::Identity()};
+  const Pose moved_body{body, expMap(dw)};
+  const Pose shape_in_body = disp.inverse() * pa;
+  ASSERT_EQ(collide(sphere(0.05), moved_body * shape_in_body, plane(), Pose{}, 0.01, moved), 1);
+  const Vec3 N = base[0].normal;
+  const double right = (base[0].point_a - body).cross(N).dot(dw);
+  const double wrong = (pa.p - body).cross(N).dot(dw) + (Vec3(0.001, 0, 0)).cross(N).dot(dw);
+  EXPECT_LT(std::abs(moved[0].gap - base[0].gap - right), 100 * h * h);
+  EXPECT_GT(std::abs(moved[0].gap - base[0].gap - wrong), 100 * h * h);
+}
+
+TEST(ContactGeometry, AllocatesNothing) {
+  std::mt19937_64 rng(13);
+  const std::vector<PairCase> cases = randomCases(rng, 5);
+  ContactPoint out[kMaxPointsPerPair];
+  int total = 0;
+  const long before = g_allocations.load();
+  for (const PairCase& c : cases) {
+    total += collide(c.a, c.pa, c.b, c.pb, 1.0, out);
+    total += collide(c.b, c.pb, c.a, c.pa, 1.0, out);
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+  std::vector<int> v(10);  // the counter itself works
+  EXPECT_GT(g_allocations.load(), before);
+  EXPECT_GT(total, 0);
+}
