@@ -4,7 +4,7 @@
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-ws=${NSCD_WS:-$repo/build/ws}
+ws=${NSCD_WS:-$repo/.build/ws}
 bash "$repo/scripts/deps.sh"
 bash "$repo/scripts/build.sh"
 out=${NSCD_OUT:-$repo/out}

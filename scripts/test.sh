@@ -4,7 +4,7 @@
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-ws=${NSCD_WS:-$repo/build/ws}
+ws=${NSCD_WS:-$repo/.build/ws}
 export ROS_HOME=${ROS_HOME:-$ws/ros_home}
 mkdir -p "$ROS_HOME"
 "$repo/scripts/build.sh" tests

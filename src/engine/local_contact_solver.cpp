@@ -1,0 +1,350 @@
+// The exact local problem of one 3D Coulomb contact: U = W P + b, Coulomb's law
+// with coefficient mu. Stages, cheapest first: take-off, frictionless, sticking
+// (all closed form), semismooth Newton on the Alart-Curnier function, a
+// projected fixed point, and, last, the exact enumeration of sliding solutions
+// over the slip direction (roots of a quartic), polished by Newton.
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/QR>
+#include <Eigen/LU>
+
+#include "nscd_sim/friction_contact_solver.hpp"
+
+namespace nscd {
+
+using Eigen::Matrix2d;
+using Eigen::Matrix3d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kRelTiny = 1e-14;   // a normal diagonal below this * max diagonal is "zero"
+constexpr double kRelZeroRow = 1e-20;  // tangent rows this small are decoupled (planar scenes)
+constexpr int kNewtonIterations = 40;
+constexpr int kLineSearchSteps = 40;
+constexpr int kSlowSteps = 4;
+constexpr int kFixedPointIterations = 300;
+
+bool allFinite3(const Vector3d& v) { return std::isfinite(v(0)) && std::isfinite(v(1)) && std::isfinite(v(2)); }
+
+// Alart-Curnier function (radius mu * max(0, P_N - rhoN U_N)) and one element
+// of its generalised Jacobian J = A + B W, A = dPhi/dP, B = dPhi/dU.
+void alartCurnier(const Matrix3d& W, const Vector3d& b, double mu, double rhoN, double rhoT,
+                  const Vector3d& P, Vector3d& phi, Matrix3d* J) {
+  const Vector3d U = W * P + b;
+  Matrix3d A = Matrix3d::Zero();
+  Matrix3d B = Matrix3d::Zero();
+  const double tN = P(0) - rhoN * U(0);
+  if (tN > 0) {
+    phi(0) = rhoN * U(0);
+    B(0, 0) = rhoN;
+  } else {
+    phi(0) = P(0);
+    A(0, 0) = 1;
+  }
+  const double r = mu * std::max(0.0, tN);
+  const Vector2d z = P.tail<2>() - rhoT * U.tail<2>();
+  const double nz = z.norm();
+  if (nz <= r) {
+    phi.tail<2>() = rhoT * U.tail<2>();
+    B(1, 1) = rhoT;
+    B(2, 2) = rhoT;
+  } else {
+    const Vector2d zh = z / nz;
+    phi.tail<2>() = P.tail<2>() - r * zh;
+    if (J) {
+      const Matrix2d G = (r / nz) * (Matrix2d::Identity() - zh * zh.transpose());
+      A.block<2, 2>(1, 1) = Matrix2d::Identity() - G;
+      B.block<2, 2>(1, 1) = rhoT * G;
+      if (tN > 0) {
+        A.block<2, 1>(1, 0) = -mu * zh;
+        B.block<2, 1>(1, 0) = mu * rhoN * zh;
+      }
+    }
+  }
+  if (J) *J = A + B * W;
+}
+
+double errorOf(const Matrix3d& W, const Vector3d& b, double mu, const Vector3d& P) {
+  return localCoulombError(P, W * P + b, mu);
+}
+
+// Keeps the best iterate seen across stages.
+struct Best {
+  Vector3d P = Vector3d::Zero();
+  double err = INFINITY;
+  void offer(const Vector3d& p, double e) {
+    if (e < err && allFinite3(p)) {
+      err = e;
+      P = p;
+    }
+  }
+};
+
+// Semismooth Newton with Armijo backtracking on 0.5|Phi|^2. Returns iterations used.
+int newtonAlartCurnier(const Matrix3d& W, const Vector3d& b, double mu, double rhoN, double rhoT,
+                       double tolAbs, Vector3d P, Best& best) {
+  Vector3d phi;
+  Matrix3d J;
+  int slow = 0;
+  for (int it = 0; it < kNewtonIterations; ++it) {
+    const double e = errorOf(W, b, mu, P);
+    best.offer(P, e);
+    if (e <= tolAbs) return it;
+    alartCurnier(W, b, mu, rhoN, rhoT, P, phi, &J);
+    // Closed-form 3x3 inverse (cofactors); a relatively tiny determinant means singular.
+    const double jmax = J.cwiseAbs().maxCoeff();
+    const double det = J.determinant();
+    if (!(std::abs(det) > 1e-14 * jmax * jmax * jmax)) return it;
+    const Vector3d d = -(J.inverse() * phi);
+    if (!allFinite3(d)) return it;
+    const double m0 = 0.5 * phi.squaredNorm();
+    double t = 1;
+    bool accepted = false;
+    Vector3d phiT;
+    for (int ls = 0; ls < kLineSearchSteps; ++ls) {
+      const Vector3d Pt = P + t * d;
+      alartCurnier(W, b, mu, rhoN, rhoT, Pt, phiT, nullptr);
+      const double mt = 0.5 * phiT.squaredNorm();
+      if (mt <= (1 - 2e-4 * t) * m0) {
+        P = Pt;
+        accepted = true;
+        // Creeping (merit barely decreasing): a local minimum of the merit, not a root.
+        slow = mt > 0.9 * m0 ? slow + 1 : 0;
+        break;
+      }
+      t *= 0.5;
+    }
+    if (!accepted || slow >= kSlowSteps) return it + 1;  // stalled (round-off, kink or local min)
+  }
+  best.offer(P, errorOf(W, b, mu, P));
+  return kNewtonIterations;
+}
+
+// Projected fixed point P <- proj_K(P - rho (W P + b + mu|U_T| e_N)).
+void fixedPoint(const Matrix3d& W, const Vector3d& b, double mu, double tolAbs, Vector3d P,
+                Best& best) {
+  Eigen::SelfAdjointEigenSolver<Matrix3d> es;
+  es.computeDirect(W, Eigen::EigenvaluesOnly);
+  const double lmax = es.eigenvalues()(2);
+  if (!(lmax > 0)) return;
+  const double rho = 1.0 / lmax;
+  for (int it = 0; it < kFixedPointIterations; ++it) {
+    Vector3d U = W * P + b;
+    const double e = localCoulombError(P, U, mu);
+    best.offer(P, e);
+    if (e <= tolAbs) return;
+    U(0) += mu * U.tail<2>().norm();
+    P = projectFrictionCone(P - rho * U, mu);
+  }
+  best.offer(P, errorOf(W, b, mu, P));
+}
+
+// Sliding solutions: P = pN (e_N - mu d), d = (cos psi, sin psi), and
+// U = W P + b = s (0, d) with pN > 0, s >= 0. For a given d this is the linear
+// system pN a(d) - s (0, d) = -b, a(d) = W (e_N - mu d), solvable iff
+//   h(psi) = a(d) . ((0, d) x b) = 0,
+// a trigonometric polynomial of degree 2 (no poles): at most 4 roots, found
+// as the roots of a quartic in t = tan((psi - psi0) / 2).
+void slipAngle(const Matrix3d& W, const Vector3d& b, double mu, Best& best) {
+  // h(psi) = l . d + d^T S d.
+  Eigen::Matrix<double, 3, 2> C;  // (0, d) x b = C d
+  C << b(2), -b(1), 0, b(0), -b(0), 0;
+  const Eigen::Matrix<double, 3, 2> Aw = -mu * W.block<3, 2>(0, 1);
+  const Vector2d l = C.transpose() * W.col(0);
+  const Matrix2d Q = Aw.transpose() * C;
+  const Matrix2d S = 0.5 * (Q + Q.transpose());
+  const auto h = [&](double psi) {
+    const Vector2d d(std::cos(psi), std::sin(psi));
+    return l.dot(d) + d.dot(S * d);
+  };
+  const auto dh = [&](double psi) {  // derivative: d' = (-sin, cos)
+    const Vector2d d(std::cos(psi), std::sin(psi)), dp(-d.y(), d.x());
+    return l.dot(dp) + 2 * dp.dot(S * d);
+  };
+  // Origin psi0 with |h(psi0 + pi)| large keeps the quartic's leading term away from 0.
+  double psi0 = 0, hmax = -1;
+  for (int i = 0; i < 8; ++i) {
+    const double v = std::abs(h(i * M_PI / 4 + M_PI));
+    if (v > hmax) {
+      hmax = v;
+      psi0 = i * M_PI / 4;
+    }
+  }
+  if (!(hmax > 0)) return;  // h == 0: degenerate, leave it to the other stages
+  // Coefficients of h(psi0 + phi) = a0 + a1 cos phi + b1 sin phi + a2 cos 2phi + b2 sin 2phi.
+  const Matrix2d R = Eigen::Rotation2Dd(psi0).toRotationMatrix();
+  const Vector2d lr = R.transpose() * l;
+  const Matrix2d Sr = R.transpose() * S * R;
+  const double a0 = 0.5 * (Sr(0, 0) + Sr(1, 1)), a2 = 0.5 * (Sr(0, 0) - Sr(1, 1)), b2 = Sr(0, 1);
+  const double a1 = lr(0), b1 = lr(1);
+  // (1 + t^2)^2 h = c4 t^4 + c3 t^3 + c2 t^2 + c1 t + c0.
+  const double c4 = a0 - a1 + a2, c3 = 2 * b1 - 4 * b2, c2 = 2 * a0 - 6 * a2, c1 = 2 * b1 + 4 * b2,
+               c0 = a0 + a1 + a2;
+  Eigen::Matrix4d comp = Eigen::Matrix4d::Zero();
+  comp(1, 0) = comp(2, 1) = comp(3, 2) = 1;
+  comp(0, 3) = -c0 / c4;
+  comp(1, 3) = -c1 / c4;
+  comp(2, 3) = -c2 / c4;
+  comp(3, 3) = -c3 / c4;
+  const Eigen::EigenSolver<Eigen::Matrix4d> es(comp, false);
+  if (es.info() != Eigen::Success) return;
+  for (int r = 0; r < 4; ++r) {
+    // Near-double roots come out as complex pairs with a small imaginary part:
+    // try every root's real part, polish on h, and let the Coulomb error decide.
+    const std::complex<double> t = es.eigenvalues()(r);
+    if (std::abs(t.imag()) > 1e-3 * (1 + std::abs(t))) continue;
+    double psi = psi0 + 2 * std::atan(t.real());
+    for (int k = 0; k < 8; ++k) {
+      const double hv = h(psi), dv = dh(psi);
+      if (hv == 0 || !(std::abs(dv) > 0)) break;
+      const double step = hv / dv;
+      if (!(std::abs(h(psi - step)) < std::abs(hv))) break;
+      psi -= step;
+    }
+    const Vector2d d(std::cos(psi), std::sin(psi));
+    Eigen::Matrix<double, 3, 2> M;
+    M.col(0) = W.col(0) - mu * W.block<3, 2>(0, 1) * d;
+    M.col(1) << 0, -d.x(), -d.y();
+    const Vector2d x = M.colPivHouseholderQr().solve(-b);  // (pN, s)
+    if (!(x(0) > 0)) continue;
+    Vector3d Pc;
+    Pc(0) = x(0);
+    Pc.tail<2>() = -mu * x(0) * d;
+    best.offer(Pc, errorOf(W, b, mu, Pc));
+  }
+}
+
+}  // namespace
+
+Vector3d projectFrictionCone(const Vector3d& x, double mu) {
+  const double xn = x(0);
+  if (mu <= 0) return Vector3d(std::max(0.0, xn), 0, 0);
+  const double nt = x.tail<2>().norm();
+  if (nt <= mu * xn) return x;
+  if (mu * nt <= -xn) return Vector3d::Zero();
+  const double a = (xn + mu * nt) / (1 + mu * mu);
+  Vector3d p;
+  p(0) = a;
+  p.tail<2>() = (mu * a / nt) * x.tail<2>();
+  return p;
+}
+
+double localCoulombError(const Vector3d& P, const Vector3d& U, double mu) {
+  Vector3d Uh = U;
+  Uh(0) += mu * U.tail<2>().norm();
+  return (P - projectFrictionCone(P - Uh, mu)).norm();
+}
+
+bool solveLocalFrictional(const Matrix3d& Wloc, const Vector3d& bloc, double mu, double tol,
+                          Vector3d& P) {
+  return solveLocalFrictional(Wloc, bloc, mu, tol, P, nullptr);
+}
+
+bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, double tol,
+                          Vector3d& P, LocalSolveInfo* info) {
+  LocalSolveInfo local;
+  LocalSolveInfo& inf = info ? *info : local;
+  inf = LocalSolveInfo{};
+  double tolAbs = INFINITY;
+  // Every exit reports the error of the original problem (W may be modified below).
+  const auto finish = [&](LocalStage stage, const Vector3d& p, bool ok) {
+    P = p;
+    inf.error = localCoulombError(p, Win * p + b, mu);
+    ok = ok && inf.error <= tolAbs;
+    inf.stage = ok ? stage : LocalStage::Failed;
+    return ok;
+  };
+  if (!Win.allFinite() || !allFinite3(b) || !std::isfinite(mu)) {
+    P.setZero();
+    inf.error = INFINITY;
+    return false;
+  }
+  tolAbs = tol * std::max(1.0, b.norm());
+
+  // Take-off: P = 0 leaves U = b with U_N >= 0.
+  if (b(0) >= 0) return finish(LocalStage::TakeOff, Vector3d::Zero(), true);
+
+  const double maxDiag = Win.diagonal().maxCoeff();
+  const double tiny = kRelTiny * maxDiag;
+  if (!(Win(0, 0) > tiny)) {  // approaching, but no impulse can stop it: no solution
+    return finish(LocalStage::Failed, Vector3d::Zero(), false);
+  }
+  if (mu <= 0) {
+    return finish(LocalStage::Frictionless, Vector3d(-b(0) / Win(0, 0), 0, 0), true);
+  }
+
+  // A zero tangent row (planar scenes) with b_T = 0 there: replace it by a
+  // decoupled unit-scale row; the solution then has P = 0 on it, as it must.
+  Matrix3d W = Win;
+  for (int i = 1; i < 3; ++i) {
+    if (W(i, i) <= kRelZeroRow * maxDiag && std::abs(b(i)) <= tolAbs) {
+      W.row(i).setZero();
+      W.col(i).setZero();
+      W(i, i) = W(0, 0);
+    }
+  }
+
+  // Warm start already a solution (NSGS near convergence): nothing to do.
+  if (allFinite3(P) && !P.isZero(0) && errorOf(Win, b, mu, P) <= tolAbs) {
+    return finish(LocalStage::WarmStart, P, true);
+  }
+
+  Best best;
+  // Sticking: U = 0.
+  const Eigen::LDLT<Matrix3d> ldlt(W);
+  const Vector3d Ps = ldlt.solve(-b);
+  if (allFinite3(Ps)) {
+    const double e = errorOf(W, b, mu, Ps);
+    if (e <= tolAbs && Ps(0) > 0) return finish(LocalStage::Stick, Ps, true);
+    best.offer(Ps, e);
+  }
+
+  // Semismooth Newton from the starts (warm, projected stick, frictionless),
+  // best merit first; the merit 0.5|Phi|^2 has local minima, so a stalled run
+  // is retried from the next start.
+  const double rhoN = 1.0 / W(0, 0);
+  const double wT = 0.5 * (W(1, 1) + W(2, 2));
+  const double rhoT = wT > tiny ? 1.0 / wT : rhoN;
+  Vector3d starts[3];
+  double merit[3];
+  int nStarts = 0;
+  const auto addStart = [&](const Vector3d& c) {
+    if (!allFinite3(c)) return;
+    Vector3d phi;
+    alartCurnier(W, b, mu, rhoN, rhoT, c, phi, nullptr);
+    const double mc = phi.squaredNorm();
+    int i = nStarts++;
+    for (; i > 0 && merit[i - 1] > mc; --i) {
+      starts[i] = starts[i - 1];
+      merit[i] = merit[i - 1];
+    }
+    starts[i] = c;
+    merit[i] = mc;
+  };
+  if (allFinite3(P) && !P.isZero(0)) addStart(P);
+  if (allFinite3(Ps)) addStart(projectFrictionCone(Ps, mu));
+  addStart(Vector3d(-b(0) / W(0, 0), 0, 0));
+  for (int i = 0; i < nStarts && best.err > tolAbs; ++i) {
+    inf.newton_iterations += newtonAlartCurnier(W, b, mu, rhoN, rhoT, tolAbs, starts[i], best);
+  }
+  if (best.err <= tolAbs) return finish(LocalStage::Newton, best.P, true);
+
+  fixedPoint(W, b, mu, tolAbs, best.P, best);
+  if (best.err <= tolAbs) return finish(LocalStage::FixedPoint, best.P, true);
+
+  // Last resort: enumerate sliding solutions, then polish the best by Newton.
+  slipAngle(W, b, mu, best);
+  if (best.err > tolAbs && std::isfinite(best.err)) {
+    newtonAlartCurnier(W, b, mu, rhoN, rhoT, tolAbs, best.P, best);
+  }
+  return finish(LocalStage::SlipAngle, best.P, true);
+}
+
+}  // namespace nscd
