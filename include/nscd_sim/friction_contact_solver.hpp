@@ -68,7 +68,7 @@ bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bl
                           double tol, Eigen::Vector3d& P);
 
 // Which stage of solveLocalFrictional produced the answer (for statistics/tests).
-enum class LocalStage { TakeOff, Frictionless, Stick, Newton, FixedPoint, SlipAngle, Failed };
+enum class LocalStage { TakeOff, Frictionless, WarmStart, Stick, Newton, FixedPoint, SlipAngle, Failed };
 struct LocalSolveInfo {
   LocalStage stage = LocalStage::Failed;
   int newton_iterations = 0;

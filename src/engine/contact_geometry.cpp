@@ -85,10 +85,12 @@ int sphereCapsule(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb
   return balls(pa.p, a.radius, pb.p + t * u, b.radius, anyOrthogonal(u), 0, margin, out, 0);
 }
 
-int sphereBox(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
-              ContactPoint* out) {
+// A ball (centre c, radius r) against a box: the nearest point of the box, or,
+// with the centre inside, the nearest face. Shared by sphere-box and capsule-box.
+int ballBox(const Vec3& c, double r, const Shape& b, const Pose& pb, int feature, double margin,
+            ContactPoint* out, int n) {
   const Vec3& h = b.half_extents;
-  const Vec3 l = pb.q.conjugate() * (pa.p - pb.p);  // sphere centre in the box frame
+  const Vec3 l = pb.q.conjugate() * (c - pb.p);  // ball centre in the box frame
   const Vec3 q(clampd(l.x(), -h.x(), h.x()), clampd(l.y(), -h.y(), h.y()),
                clampd(l.z(), -h.z(), h.z()));
   const Vec3 diff = l - q;
@@ -96,7 +98,7 @@ int sphereBox(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, do
   if (d2 > 1e-280) {  // centre outside: nearest point of the box
     const double dist = std::sqrt(d2);
     const Vec3 normal = pb.rotate(diff / dist);
-    return emit(out, 0, pa.p - a.radius * normal, pb.apply(q), normal, dist - a.radius, 0, margin);
+    return emit(out, n, c - r * normal, pb.apply(q), normal, dist - r, feature, margin);
   }
   // Centre inside (or on the surface): push out through the nearest face.
   int axis = 0;
@@ -114,8 +116,41 @@ int sphereBox(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, do
   Vec3 onFace = l;
   onFace[axis] = sgn * h[axis];
   const Vec3 normal = pb.rotate(nl);
-  return emit(out, 0, pa.p - a.radius * normal, pb.apply(onFace), normal, -depth - a.radius, 0,
-              margin);
+  return emit(out, n, c - r * normal, pb.apply(onFace), normal, -depth - r, feature, margin);
+}
+
+int sphereBox(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
+              ContactPoint* out) {
+  return ballBox(pa.p, a.radius, b, pb, 0, margin, out, 0);
+}
+
+// Capsule against box: the two ends of the capsule's segment, each as a ball.
+// When the segment is parallel to a box edge (within 2.6 deg; pins and arcs of
+// mechanisms whose axes are all parallel), the ends are first clamped to the
+// box's extent along that edge, where the distance to the box does not vary
+// along the segment: the two points then carry a line contact exactly. In
+// other poses the ends are exact only when an end is the segment's nearest
+// point (a segment crossing a box edge at its middle is missed).
+int capsuleBox(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
+               ContactPoint* out) {
+  const Vec3 u = axisZ(pa);
+  const double h = 0.5 * a.length;
+  Vec3 e0 = pa.p - h * u, e1 = pa.p + h * u;
+  const Vec3 ul = pb.q.conjugate() * u;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(ul[k]) < 0.999) continue;
+    Vec3 l0 = pb.q.conjugate() * (e0 - pb.p), l1 = pb.q.conjugate() * (e1 - pb.p);
+    const double hk = b.half_extents[k];
+    if (std::max(l0[k], l1[k]) >= -hk && std::min(l0[k], l1[k]) <= hk) {
+      l0[k] = clampd(l0[k], -hk, hk);
+      l1[k] = clampd(l1[k], -hk, hk);
+      e0 = pb.apply(l0);
+      e1 = pb.apply(l1);
+    }
+    break;
+  }
+  const int n = ballBox(e0, a.radius, b, pb, 0, margin, out, 0);
+  return ballBox(e1, a.radius, b, pb, 1, margin, out, n);
 }
 
 int capsulePlane(const Shape& a, const Pose& pa, const Shape&, const Pose& pb, double margin,
@@ -250,6 +285,7 @@ PairFn pairFunction(ShapeType a, ShapeType b) {
   if (a == T::Capsule) {
     if (b == T::Plane) return capsulePlane;
     if (b == T::Capsule) return capsuleCapsule;
+    if (b == T::Box) return capsuleBox;
   }
   if (a == T::Box && b == T::Plane) return boxPlane;
   if (a == T::Cylinder && b == T::Plane) return cylinderPlane;

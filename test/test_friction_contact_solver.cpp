@@ -1,0 +1,556 @@
+// Tests of the friction-contact solver: the exact 3x3 Coulomb local solver and
+// NSGS over blocks, each against a closed-form answer or Coulomb's law itself.
+#include <algorithm>
+#include <ctime>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "nscd_sim/friction_contact_solver.hpp"
+
+using Eigen::Matrix3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using namespace nscd;
+
+namespace {
+
+// Random SPD 3x3 with condition number `cond` and largest eigenvalue `scale`.
+Matrix3d randomSpd3(std::mt19937& rng, double cond, double scale) {
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  const Matrix3d O = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+  const Vector3d lam(1.0, std::pow(cond, -u(rng)), 1.0 / cond);
+  return scale * O * lam.asDiagonal() * O.transpose();
+}
+
+Vector3d randomUnitTangent(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0, 2 * M_PI);
+  const double a = u(rng);
+  return Vector3d(0, std::cos(a), std::sin(a));
+}
+
+double relErr(const Vector3d& a, const Vector3d& b) { return (a - b).norm() / std::max(1e-300, b.norm()); }
+
+// Friction-cone check used by the tests independently of the solver's error.
+bool inCone(const Vector3d& P, double mu, double slack) {
+  return P(0) >= -slack && P.tail<2>().norm() <= mu * P(0) + slack;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- cone helpers
+
+TEST(FrictionCone, ProjectionCases) {
+  const double mu = 0.5;
+  const Vector3d inside(2, 0.3, -0.4);  // |T| = 0.5 <= 1
+  EXPECT_EQ(projectFrictionCone(inside, mu), inside);
+  EXPECT_EQ(projectFrictionCone(Vector3d(-2, 0.3, 0.4), mu), Vector3d::Zero());  // polar cone
+  // Outside: closed form onto the boundary ray in the plane of x and e_N.
+  const Vector3d x(1, 3, 4);  // |T| = 5
+  const double a = (1 + mu * 5) / (1 + mu * mu);
+  const Vector3d expect(a, mu * a * 3 / 5, mu * a * 4 / 5);
+  EXPECT_LT((projectFrictionCone(x, mu) - expect).norm(), 1e-15);
+  // Moreau: x - proj is orthogonal to proj.
+  EXPECT_NEAR((x - expect).dot(expect), 0, 1e-14);
+  EXPECT_EQ(projectFrictionCone(Vector3d(-1, 2, 3), 0.0), Vector3d::Zero());
+  EXPECT_EQ(projectFrictionCone(Vector3d(1, 2, 3), 0.0), Vector3d(1, 0, 0));
+}
+
+// ---------------------------------------------------------------- local solver
+
+TEST(LocalSolver, TakeOffGivesZero) {
+  std::mt19937 rng(1);
+  const Matrix3d W = randomSpd3(rng, 10, 1);
+  Vector3d P(1, 2, 3);  // a warm start that must be discarded
+  LocalSolveInfo info;
+  EXPECT_TRUE(solveLocalFrictional(W, Vector3d(0.5, -3, 1), 0.7, 1e-12, P, &info));
+  EXPECT_EQ(P, Vector3d::Zero());
+  EXPECT_EQ(info.stage, LocalStage::TakeOff);
+}
+
+TEST(LocalSolver, SticksWithKnownImpulse) {
+  std::mt19937 rng(2);
+  for (int k = 0; k < 50; ++k) {
+    const Matrix3d W = randomSpd3(rng, 100, 2);
+    const double mu = 0.8;
+    const Vector3d Pstar(1.5, 0.5 * mu * 1.5 * std::cos(k), 0.5 * mu * 1.5 * std::sin(k));
+    const Vector3d b = -W * Pstar;  // U = 0 at Pstar
+    if (b(0) >= 0) continue;  // then P = 0 (take-off) is another solution
+    Vector3d P = Vector3d::Zero();
+    LocalSolveInfo info;
+    ASSERT_TRUE(solveLocalFrictional(W, b, mu, 1e-12, P, &info));
+    EXPECT_EQ(info.stage, LocalStage::Stick);
+    EXPECT_LT(relErr(P, Pstar), 1e-12);
+  }
+}
+
+TEST(LocalSolver, FrictionlessIsOneDimensional) {
+  Matrix3d W;
+  W << 2, 0.3, 0.1, 0.3, 1, 0, 0.1, 0, 1;
+  Vector3d P = Vector3d::Zero();
+  ASSERT_TRUE(solveLocalFrictional(W, Vector3d(-3, 1, 1), 0.0, 1e-12, P));
+  EXPECT_LT((P - Vector3d(1.5, 0, 0)).norm(), 1e-15);
+}
+
+// Built backwards: choose the sliding solution, derive b = U - W P.
+TEST(LocalSolver, SlidingRecoveredExactly) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  int byNewton = 0;
+  const int n = 500;
+  for (int k = 0; k < n; ++k) {
+    // Mild anisotropy and mu keep the sliding solution unique (so "the" P is defined).
+    const Matrix3d W = randomSpd3(rng, 1 + 2 * u(rng), 0.1 + 10 * u(rng));
+    const double mu = 0.05 + 0.5 * u(rng);
+    const double pN = 0.1 + 5 * u(rng);
+    const Vector3d d = randomUnitTangent(rng);
+    const double s = 0.01 + 3 * u(rng);
+    const Vector3d Pstar = pN * (Vector3d::UnitX() - mu * d);
+    const Vector3d Ustar = s * d;
+    const Vector3d b = Ustar - W * Pstar;
+    Vector3d P = Vector3d::Zero();
+    LocalSolveInfo info;
+    ASSERT_TRUE(solveLocalFrictional(W, b, mu, 1e-14, P, &info)) << k;
+    byNewton += info.stage == LocalStage::Newton;
+    EXPECT_LT(relErr(P, Pstar), 1e-10) << "case " << k << " stage " << int(info.stage);
+  }
+  std::printf("[ figures  ] sliding built backwards: %d/%d by Newton\n", byNewton, n);
+}
+
+// Thousands of random problems, including condition 1e6 and mu up to 2: the
+// answer must satisfy Coulomb's law. Stage statistics are reported.
+TEST(LocalSolver, RandomProblemsObeyCoulomb) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  int stages[8] = {0};
+  int failures = 0, atFloor = 0;
+  double worst = 0;
+  const int n = 4000;
+  const double eps = std::numeric_limits<double>::epsilon();
+  for (int k = 0; k < n; ++k) {
+    const double cond = (k % 4 == 0) ? 1e6 : std::pow(10.0, 4 * u(rng));
+    const Matrix3d W = randomSpd3(rng, cond, std::pow(10.0, 4 * u(rng) - 2));
+    const double mu = (k % 10 == 0) ? 0.0 : 2 * u(rng);
+    // Mostly approaching (b_N < 0): those are the non-trivial cases.
+    const Vector3d b((k % 5 == 0) ? g(rng) : -std::abs(g(rng)), g(rng), g(rng));
+    Vector3d P = (k % 3 == 0) ? Vector3d(u(rng), g(rng), g(rng)) : Vector3d::Zero();
+    LocalSolveInfo info;
+    const bool ok = solveLocalFrictional(W, b, mu, 1e-11, P, &info);
+    ASSERT_TRUE(P.allFinite()) << k;
+    const double bs = std::max(1.0, b.norm());
+    const double err = localCoulombError(P, W * P + b, mu);
+    // Round-off floor of the error itself: P - Uhat and U = W P + b carry
+    // eps (|P| + |W| |P| + |b|); reached when |P| >> |b| (ill-conditioned W, large mu).
+    const double roundoff = 16 * eps * (P.norm() * (1 + W.norm()) + b.norm());
+    worst = std::max(worst, err / bs);
+    ++stages[int(info.stage)];
+    if (!ok && err > 1e-10 * bs) ++atFloor;
+    if (err > 1e-10 * bs + roundoff || (!ok && err > roundoff + 1e-11 * bs)) {
+      ++failures;
+      ADD_FAILURE() << "case " << k << " cond " << cond << " mu " << mu << " err " << err
+                    << " roundoff " << roundoff << " stage " << int(info.stage);
+    }
+    // Independent checks of the law: P in the cone, U_N >= 0, P_N U_N = 0.
+    const Vector3d U = W * P + b;
+    const double slack = 1e-10 * bs + roundoff;
+    EXPECT_TRUE(inCone(P, mu, slack)) << k;
+    EXPECT_GE(U(0), -slack) << k;
+    EXPECT_LE(std::abs(P(0) * U(0)), slack * std::max(1.0, P(0) + std::abs(U(0)))) << k;
+  }
+  EXPECT_EQ(failures, 0);
+  std::printf(
+      "[ figures  ] %d random local problems: take-off %d, frictionless %d, warm start %d, "
+      "stick %d, Newton %d, fixed point %d, slip angle %d, not within tol %d (%d above 1e-10, "
+      "all at the round-off floor); worst error/max(1,|b|) %.2e\n",
+      n, stages[0], stages[1], stages[2], stages[3], stages[4], stages[5], stages[6], stages[7],
+      atFloor, worst);
+  const int rest = n - stages[0] - stages[1] - stages[2] - stages[3];
+  std::printf("[ figures  ] Newton alone solved %d of the %d problems left after the closed-form "
+              "stages (%.1f%%)\n", stages[4], rest, 100.0 * stages[4] / std::max(1, rest));
+}
+
+// Planar scenes: the out-of-plane tangent row is zero. P stays 0 there, no NaN.
+TEST(LocalSolver, ZeroTangentRow) {
+  Matrix3d W;
+  W << 2, 0.4, 0, 0.4, 1, 0, 0, 0, 0;
+  const double mu = 0.3;
+  // Sliding in the plane: built backwards in the 2-D sub-problem.
+  const Vector3d Pstar(2.0, -mu * 2.0, 0);
+  const Vector3d b = Vector3d(0, 0.5, 0) - W * Pstar;
+  Vector3d P = Vector3d::Zero();
+  ASSERT_TRUE(solveLocalFrictional(W, b, mu, 1e-13, P));
+  EXPECT_LT(relErr(P, Pstar), 1e-12);
+  EXPECT_EQ(P(2), 0.0);
+  // Sticking in the plane.
+  const Vector3d Ps(1.0, 0.1, 0);
+  P.setZero();
+  ASSERT_TRUE(solveLocalFrictional(W, -W * Ps, mu, 1e-13, P));
+  EXPECT_LT(relErr(P, Ps), 1e-12);
+  EXPECT_EQ(P(2), 0.0);
+}
+
+TEST(LocalSolver, NonFiniteInputReportsFailure) {
+  Matrix3d W = Matrix3d::Identity();
+  W(1, 1) = NAN;
+  Vector3d P(1, 0, 0);
+  EXPECT_FALSE(solveLocalFrictional(W, Vector3d(-1, 0, 0), 0.5, 1e-12, P));
+  EXPECT_TRUE(P.allFinite());
+}
+
+TEST(LocalSolver, Timing) {
+  std::mt19937 rng(5);
+  const Matrix3d W = randomSpd3(rng, 10, 1);
+  const double mu = 0.4;
+  const Vector3d bStick = -W * Vector3d(1, 0.1, 0.1);
+  const Vector3d Pslide = 1.0 * (Vector3d::UnitX() - mu * Vector3d(0, 0.6, 0.8));
+  const Vector3d bSlide = Vector3d(0, 1.2, 1.6) - W * Pslide;
+  // CPU time, best of 7 repetitions: the machine is shared, the minimum is the cost.
+  const auto time = [&](const Vector3d& b, bool warm) {
+    const int n = 4000;
+    double bestNs = INFINITY, sink = 0;
+    for (int rep = 0; rep < 7; ++rep) {
+      Vector3d P = Vector3d::Zero();
+      const std::clock_t t0 = std::clock();
+      for (int i = 0; i < n; ++i) {
+        if (!warm) P.setZero();
+        solveLocalFrictional(W, b, mu, 1e-12, P);
+        sink += P(0);
+      }
+      const std::clock_t t1 = std::clock();
+      bestNs = std::min(bestNs, 1e9 * double(t1 - t0) / CLOCKS_PER_SEC / n);
+    }
+    EXPECT_GT(sink, 0);
+    return bestNs;
+  };
+  std::printf("[ figures  ] local solve: stick %.0f ns, slide cold %.0f ns, slide warm %.0f ns\n",
+              time(bStick, false), time(bSlide, false), time(bSlide, true));
+}
+
+// ---------------------------------------------------------------- NSGS
+
+TEST(Nsgs, SingleFrictionlessContact) {
+  MatrixXd W(1, 1);
+  W << 4;
+  VectorXd b(1), P = VectorXd::Zero(1);
+  b << -2;
+  std::vector<ProblemBlock> blocks{{BlockKind::Frictionless, 0, 1, 0}};
+  FrictionContactSolver s;
+  SolverReport r = s.solve(W, b, blocks, {}, P);
+  EXPECT_TRUE(r.converged);
+  EXPECT_DOUBLE_EQ(P(0), 0.5);  // 1-D LCP: P = max(0, -b/W)
+  b << 3;
+  r = s.solve(W, b, blocks, {}, P);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(P(0), 0.0);
+}
+
+namespace {
+
+// A box of mass m (half sizes a, b, c) resting on z = 0 on its 4 bottom
+// corners: 4 frictional contacts, 12 rows on 6 DOF (hyperstatic).
+struct BoxOnPlane {
+  double m = 2, a = 0.3, bb = 0.2, c = 0.1, g = 9.81, h = 0.01;
+  MatrixXd G = MatrixXd::Zero(12, 6);
+  Eigen::Matrix<double, 6, 6> Minv = Eigen::Matrix<double, 6, 6>::Zero();
+  BoxOnPlane() {
+    const Vector3d J(m / 3 * (bb * bb + c * c), m / 3 * (a * a + c * c), m / 3 * (a * a + bb * bb));
+    Minv.topLeftCorner<3, 3>() = Matrix3d::Identity() / m;
+    Minv.bottomRightCorner<3, 3>() = J.cwiseInverse().asDiagonal();
+    const Vector3d frame[3] = {Vector3d::UnitZ(), Vector3d::UnitX(), Vector3d::UnitY()};
+    int k = 0;
+    for (double sx : {-1.0, 1.0})
+      for (double sy : {-1.0, 1.0}) {
+        const Vector3d r(sx * a, sy * bb, -c);
+        for (int i = 0; i < 3; ++i) {
+          G.block<1, 3>(3 * k + i, 0) = frame[i].transpose();
+          G.block<1, 3>(3 * k + i, 3) = r.cross(frame[i]).transpose();
+        }
+        ++k;
+      }
+  }
+  MatrixXd W() const { return G * Minv * G.transpose(); }
+  VectorXd b(const Eigen::Matrix<double, 6, 1>& v0) const {
+    Eigen::Matrix<double, 6, 1> vfree = v0;
+    vfree(2) -= g * h;
+    return G * vfree;
+  }
+};
+
+}  // namespace
+
+TEST(Nsgs, HyperstaticBoxAtRest) {
+  BoxOnPlane box;
+  const MatrixXd W = box.W();
+  const VectorXd b = box.b(Eigen::Matrix<double, 6, 1>::Zero());
+  std::vector<ProblemBlock> blocks;
+  for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, 0.5});
+  VectorXd P = VectorXd::Zero(12);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-10;
+  o.max_iterations = 2000;
+  const SolverReport r = s.solve(W, b, blocks, o, P);
+  std::printf("[ figures  ] box at rest (hyperstatic): %d iterations, residual %.2e\n", r.iterations,
+              r.residual);
+  ASSERT_TRUE(r.converged);
+  EXPECT_LE(solverError(W, b, P, blocks), 1e-10);
+  double sumN = 0;
+  for (int k = 0; k < 4; ++k) sumN += P(3 * k);
+  EXPECT_NEAR(sumN, box.m * box.g * box.h, 1e-9);
+  // At rest: every local velocity is zero.
+  EXPECT_LT((W * P + b).norm(), 1e-9);
+}
+
+TEST(Nsgs, HyperstaticBoxSliding) {
+  BoxOnPlane box;
+  const MatrixXd W = box.W();
+  Eigen::Matrix<double, 6, 1> v0 = Eigen::Matrix<double, 6, 1>::Zero();
+  v0(0) = 1.0;  // fast: friction mu m g h cannot stop it in one step
+  const VectorXd b = box.b(v0);
+  const double mu = 0.4;
+  std::vector<ProblemBlock> blocks;
+  for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, mu});
+  VectorXd P = VectorXd::Zero(12);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-10;
+  o.max_iterations = 2000;
+  const SolverReport r = s.solve(W, b, blocks, o, P);
+  std::printf("[ figures  ] box sliding (hyperstatic): %d iterations, residual %.2e\n", r.iterations,
+              r.residual);
+  ASSERT_TRUE(r.converged);
+  double sumN = 0, sumX = 0, sumY = 0;
+  for (int k = 0; k < 4; ++k) {
+    sumN += P(3 * k);
+    sumX += P(3 * k + 1);
+    sumY += P(3 * k + 2);
+  }
+  const double mgh = box.m * box.g * box.h;
+  EXPECT_NEAR(sumN, mgh, 1e-9);
+  EXPECT_NEAR(sumX, -mu * mgh, 1e-9);  // every contact slides along +x
+  EXPECT_NEAR(sumY, 0, 1e-9);
+}
+
+// A pin (2 equality rows) with a known exact answer U = 0: P = -W^-1 b.
+TEST(Nsgs, BilateralBlockExact) {
+  MatrixXd W(2, 2);
+  W << 3, 1, 1, 2;
+  VectorXd b(2), P = VectorXd::Zero(2);
+  b << 1, -2;
+  std::vector<ProblemBlock> blocks{{BlockKind::Bilateral, 0, 2, 0}};
+  FrictionContactSolver s;
+  const SolverReport r = s.solve(W, b, blocks, {}, P);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.iterations, 1);
+  const VectorXd Pexact = -W.ldlt().solve(b);
+  EXPECT_LT((P - Pexact).norm(), 1e-14);
+  EXPECT_LT((W * P + b).norm(), 1e-14);
+}
+
+// Planar scenes: out-of-plane rows of W are zero (bilateral and tangential).
+TEST(Nsgs, ZeroRowsStayZero) {
+  // Rows: bilateral block of 3 (middle one out of plane), then a contact
+  // whose second tangent is out of plane. One planar body: 3 DOF.
+  MatrixXd G = MatrixXd::Zero(6, 3);
+  G.row(0) << 1, 0, 0.2;
+  G.row(2) << 0, 1, -0.1;
+  G.row(3) << 0.3, 1, 0.5;  // contact normal
+  G.row(4) << 1, -0.3, 0.1;  // in-plane tangent
+  // row 1 and row 5: out of plane -> zero
+  const MatrixXd W = G * G.transpose();
+  Eigen::Vector3d vfree(0.2, -1.0, 0.3);
+  const VectorXd b = G * vfree;
+  std::vector<ProblemBlock> blocks{{BlockKind::Bilateral, 0, 3, 0}, {BlockKind::Frictional, 3, 3, 0.5}};
+  VectorXd P = VectorXd::Constant(6, 7.0);  // garbage warm start, also on zero rows
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-12;
+  const SolverReport r = s.solve(W, b, blocks, o, P);
+  ASSERT_TRUE(P.allFinite());
+  EXPECT_TRUE(r.converged) << r.residual;
+  EXPECT_EQ(P(1), 0.0);
+  EXPECT_EQ(P(5), 0.0);
+  EXPECT_LE(solverError(W, b, P, blocks), 1e-12);
+}
+
+TEST(Nsgs, WarmStartFromSolution) {
+  BoxOnPlane box;
+  const MatrixXd W = box.W();
+  Eigen::Matrix<double, 6, 1> v0 = Eigen::Matrix<double, 6, 1>::Zero();
+  v0(0) = 0.5;
+  v0(4) = 0.3;
+  const VectorXd b = box.b(v0);
+  std::vector<ProblemBlock> blocks;
+  for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, 0.3});
+  VectorXd P = VectorXd::Zero(12);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.max_iterations = 2000;
+  const SolverReport cold = s.solve(W, b, blocks, o, P);
+  ASSERT_TRUE(cold.converged);
+  const SolverReport warm = s.solve(W, b, blocks, o, P);
+  EXPECT_TRUE(warm.converged);
+  EXPECT_LE(warm.iterations, 1);
+  std::printf("[ figures  ] warm start: cold %d iterations, warm %d\n", cold.iterations, warm.iterations);
+}
+
+TEST(Nsgs, NonFiniteReportsFailure) {
+  MatrixXd W = MatrixXd::Identity(3, 3);
+  W(0, 0) = NAN;
+  VectorXd b = -VectorXd::Ones(3), P = VectorXd::Zero(3);
+  std::vector<ProblemBlock> blocks{{BlockKind::Frictional, 0, 3, 0.5}};
+  FrictionContactSolver s;
+  SolverReport r = s.solve(W, b, blocks, {}, P);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.iterations, 0);
+  W(0, 0) = 1;
+  b(1) = INFINITY;
+  r = s.solve(W, b, blocks, {}, P);
+  EXPECT_FALSE(r.converged);
+  EXPECT_FALSE(std::isfinite(solverError(W, b, P, blocks)));
+  // A poisoned warm start is dropped, not propagated.
+  b(1) = 0;
+  P << NAN, 1, 2;
+  r = s.solve(W, b, blocks, {}, P);
+  EXPECT_TRUE(r.converged);
+  EXPECT_TRUE(P.allFinite());
+}
+
+// Coupled frictionless contacts = an LCP; compare with brute-force enumeration
+// of the 2^n active sets (unique solution for positive definite W).
+TEST(Nsgs, FrictionlessMatchesBruteForceLcp) {
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g(0, 1);
+  const int n = 5;
+  for (int trial = 0; trial < 20; ++trial) {
+    MatrixXd A(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) A(i, j) = g(rng);
+    const MatrixXd W = A * A.transpose() + 0.1 * MatrixXd::Identity(n, n);
+    VectorXd b(n);
+    for (int i = 0; i < n; ++i) b(i) = g(rng);
+    VectorXd Pbf = VectorXd::Constant(n, NAN);
+    for (int mask = 0; mask < (1 << n); ++mask) {
+      std::vector<int> act;
+      for (int i = 0; i < n; ++i)
+        if (mask & (1 << i)) act.push_back(i);
+      VectorXd p = VectorXd::Zero(n);
+      if (!act.empty()) {
+        MatrixXd Wa(act.size(), act.size());
+        VectorXd ba(act.size());
+        for (size_t r = 0; r < act.size(); ++r) {
+          ba(r) = b(act[r]);
+          for (size_t c = 0; c < act.size(); ++c) Wa(r, c) = W(act[r], act[c]);
+        }
+        const VectorXd pa = -Wa.ldlt().solve(ba);
+        for (size_t r = 0; r < act.size(); ++r) p(act[r]) = pa(r);
+      }
+      const VectorXd U = W * p + b;
+      if (p.minCoeff() >= -1e-12 && U.minCoeff() >= -1e-12) Pbf = p;
+    }
+    ASSERT_TRUE(Pbf.allFinite());
+    std::vector<ProblemBlock> blocks;
+    for (int i = 0; i < n; ++i) blocks.push_back({BlockKind::Frictionless, i, 1, 0});
+    VectorXd P = VectorXd::Zero(n);
+    FrictionContactSolver s;
+    SolverOptions o;
+    o.tolerance = 1e-13;
+    o.max_iterations = 20000;
+    const SolverReport r = s.solve(W, b, blocks, o, P);
+    ASSERT_TRUE(r.converged) << trial << " residual " << r.residual;
+    EXPECT_LT((P - Pbf).norm(), 1e-9 * std::max(1.0, Pbf.norm())) << trial;
+  }
+}
+
+TEST(Nsgs, SolverErrorMatchesHandComputation) {
+  // One frictionless row and one bilateral row, decoupled.
+  MatrixXd W = MatrixXd::Identity(2, 2);
+  VectorXd b(2), P(2);
+  b << -1, 0.5;
+  P << 0.25, 0;  // U = (-0.75, 0.5)
+  std::vector<ProblemBlock> blocks{{BlockKind::Frictionless, 0, 1, 0}, {BlockKind::Bilateral, 1, 1, 0}};
+  // Frictionless: P - max(0, P - U) = 0.25 - 1 = -0.75; bilateral: 0.5.
+  const double expect = std::sqrt(0.75 * 0.75 + 0.25) / std::max(1.0, b.norm());
+  EXPECT_NEAR(solverError(W, b, P, blocks), expect, 1e-15);
+}
+
+namespace {
+
+// Random mechanisms: W = G M^-1 G^T, b = G v_free, 1-20 frictional contacts
+// (mu in [0, 1.2]) and 0-2 bilateral blocks of 1-6 rows. ndof(m) DOF.
+template <class Ndof>
+void runRandomProblems(const char* name, unsigned seed, Ndof ndofOf) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  FrictionContactSolver s;  // reused: workspace grows, then stays
+  std::vector<int> its;
+  int failures = 0;
+  const int n = 60;
+  for (int k = 0; k < n; ++k) {
+    const int nc = 1 + k % 20;
+    const int nb = k % 3;
+    std::vector<ProblemBlock> blocks;
+    int m = 0;
+    for (int i = 0; i < nb; ++i) {
+      const int sz = 1 + int(u(rng) * 6) % 6;
+      blocks.push_back({BlockKind::Bilateral, m, sz, 0});
+      m += sz;
+    }
+    for (int i = 0; i < nc; ++i) {
+      blocks.push_back({BlockKind::Frictional, m, 3, 1.2 * u(rng)});
+      m += 3;
+    }
+    const int ndof = ndofOf(m, u(rng));
+    MatrixXd G(m, ndof), A(ndof, ndof);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < ndof; ++j) G(i, j) = g(rng);
+    for (int i = 0; i < ndof; ++i)
+      for (int j = 0; j < ndof; ++j) A(i, j) = g(rng);
+    const MatrixXd M = A * A.transpose() + ndof * MatrixXd::Identity(ndof, ndof);
+    const MatrixXd W = G * M.ldlt().solve(G.transpose());
+    VectorXd vfree(ndof);
+    for (int j = 0; j < ndof; ++j) vfree(j) = g(rng);
+    const VectorXd b = G * vfree;
+    VectorXd P = VectorXd::Zero(m);
+    SolverOptions o;
+    o.tolerance = 1e-8;
+    o.max_iterations = 5000;
+    const SolverReport r = s.solve(W, b, blocks, o, P);
+    ASSERT_TRUE(P.allFinite());
+    if (!r.converged) {
+      ++failures;
+      ADD_FAILURE() << "problem " << k << " (" << nc << " contacts, m " << m << ", ndof " << ndof
+                    << "): residual " << r.residual << " after " << r.iterations;
+    }
+    EXPECT_LE(solverError(W, b, P, blocks), 1e-8) << k;
+    EXPECT_NEAR(solverError(W, b, P, blocks), r.residual, 1e-12) << k;
+    its.push_back(r.iterations);
+  }
+  std::sort(its.begin(), its.end());
+  double mean = 0;
+  for (int i : its) mean += i;
+  std::printf("[ figures  ] NSGS on %d random %s problems (tol 1e-8): iterations median %d, "
+              "mean %.1f, max %d\n", n, name, its[its.size() / 2], mean / its.size(), its.back());
+  EXPECT_EQ(failures, 0);
+}
+
+}  // namespace
+
+// More DOF than rows: W positive definite.
+TEST(Nsgs, RandomProblems) {
+  runRandomProblems("positive definite", 6, [](int m, double r) { return m + 3 + int(6 * r); });
+}
+
+// DOF = 0.7 rows: W singular (hyperstatic), as several contacts on one body.
+TEST(Nsgs, RandomHyperstaticProblems) {
+  runRandomProblems("hyperstatic (ndof = 0.7 m)", 7, [](int m, double) { return std::max(1, int(0.7 * m)); });
+}
