@@ -1,0 +1,473 @@
+// Reads friction-contact problems in the FCLib HDF5 format (local: U = W r + q;
+// global problems are condensed to local ones) and solves them with
+// nscd::FrictionContactSolver, cold-started, at each requested tolerance,
+// printing iterations, error and time. Built with Siconos numerics
+// (NSCD_WITH_SICONOS), it also runs Siconos's fc3d solvers on the same problem
+// and reports both error measures for every solution, and can convert a
+// Siconos .dat problem (frictionContact_printInFilename) to FCLib.
+//
+// usage: nscd_fclib [--tol 1e-4,1e-8,1e-10] [--max-iter N] [--siconos nsgs,nsn_ac,...|none]
+//                   [--csv FILE] [--min-ms T] [--measure siconos|nscd]
+//                   [--siconos-storage best|sparse|dense] PROBLEM.hdf5...
+// Tolerances are on the chosen error measure: Siconos's (fc3d_compute_error:
+// natural-map residual / |q|, the default) or nscd's (/ max(1, |q|)); our solver
+// is given the tolerance that makes its own stopping test equivalent.
+//        nscd_fclib --convert IN.dat OUT.hdf5 [--title TEXT] [--description TEXT]
+// fclib.h has no C++ guard.
+extern "C" {
+#include <fclib.h>
+}
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "nscd_sim/friction_contact_solver.hpp"
+
+#ifdef NSCD_WITH_SICONOS
+#include <FrictionContactProblem.h>
+#include <Friction_cst.h>
+#include <NonSmoothDrivers.h>
+#include <NumericsMatrix.h>
+#include <SolverOptions.h>
+#include <fc3d_compute_error.h>
+#endif
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A local problem: U = W r + q, contacts of `dim` rows (normal first).
+struct LocalProblem {
+  std::string name;
+  int dim = 3;
+  int contacts = 0;
+  Eigen::MatrixXd W;
+  Eigen::VectorXd q;
+  std::vector<double> mu;
+};
+
+Eigen::MatrixXd toDense(const fclib_matrix* A) {
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(A->m, A->n);
+  if (A->nz == -1) {  // compressed columns
+    for (int j = 0; j < A->n; ++j)
+      for (int k = A->p[j]; k < A->p[j + 1]; ++k) D(A->i[k], j) += A->x[k];
+  } else {  // triplets: p holds the column indices
+    for (int k = 0; k < A->nz; ++k) D(A->i[k], A->p[k]) += A->x[k];
+  }
+  return D;
+}
+
+bool readProblem(const char* path, LocalProblem& out) {
+  out.name = path;
+  const char* slash = std::strrchr(path, '/');
+  if (slash) out.name = slash + 1;
+  if (fclib_local* lp = fclib_read_local(path)) {
+    out.dim = lp->spacedim;
+    out.W = toDense(lp->W);
+    out.contacts = static_cast<int>(out.W.rows()) / out.dim;
+    out.q = Eigen::Map<Eigen::VectorXd>(lp->q, out.W.rows());
+    out.mu.assign(lp->mu, lp->mu + out.contacts);
+    const bool extra = lp->V || lp->R;
+    fclib_delete_local(lp);
+    std::free(lp);
+    if (extra) std::fprintf(stderr, "%s: V/R (bilateral part) ignored\n", path);
+    return true;
+  }
+  if (fclib_global* gp = fclib_read_global(path)) {
+    // M v = H r + f, U = H^T v + w  ->  W = H^T M^-1 H, q = H^T M^-1 f + w.
+    out.dim = gp->spacedim;
+    const Eigen::MatrixXd M = toDense(gp->M), H = toDense(gp->H);
+    const Eigen::LLT<Eigen::MatrixXd> llt(M);
+    const Eigen::VectorXd f = Eigen::Map<Eigen::VectorXd>(gp->f, M.rows());
+    const Eigen::VectorXd w = Eigen::Map<Eigen::VectorXd>(gp->w, H.cols());
+    out.W = H.transpose() * llt.solve(H);
+    out.q = H.transpose() * llt.solve(f) + w;
+    out.contacts = static_cast<int>(H.cols()) / out.dim;
+    out.mu.assign(gp->mu, gp->mu + out.contacts);
+    const bool eq = gp->G != nullptr;
+    fclib_delete_global(gp);
+    std::free(gp);
+    if (eq) {
+      std::fprintf(stderr, "%s: global problem with equality constraints (G): not supported\n", path);
+      return false;
+    }
+    return true;
+  }
+  return false;
+}
+
+// Our block layout; a 2D problem becomes 3D with a decoupled, inert second tangent.
+void toOurs(const LocalProblem& p, Eigen::MatrixXd& W, Eigen::VectorXd& b,
+            std::vector<nscd::ProblemBlock>& blocks) {
+  const int n = 3 * p.contacts;
+  W = Eigen::MatrixXd::Zero(n, n);
+  b = Eigen::VectorXd::Zero(n);
+  blocks.clear();
+  for (int a = 0; a < p.contacts; ++a) {
+    nscd::ProblemBlock bl;
+    bl.kind = nscd::BlockKind::Frictional;
+    bl.row = 3 * a;
+    bl.size = 3;
+    bl.mu = p.mu[a];
+    blocks.push_back(bl);
+  }
+  if (p.dim == 3) {
+    W = p.W;
+    b = p.q;
+    return;
+  }
+  for (int a = 0; a < p.contacts; ++a) {
+    for (int c = 0; c < p.contacts; ++c)
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) W(3 * a + i, 3 * c + j) = p.W(2 * a + i, 2 * c + j);
+    W(3 * a + 2, 3 * a + 2) = std::max(p.W(2 * a + 1, 2 * a + 1), 1.0);
+    b(3 * a) = p.q(2 * a);
+    b(3 * a + 1) = p.q(2 * a + 1);
+  }
+}
+
+struct Row {
+  std::string problem, solver;
+  int contacts = 0;
+  double tol = 0;
+  long iterations = 0;
+  double err_ours = 0;     // nscd::solverError: / max(1, |q|)
+  double err_siconos = -1; // fc3d_compute_error with norm |q| (if available)
+  double ms = 0;
+  bool converged = false;
+};
+
+#ifdef NSCD_WITH_SICONOS
+struct SiconosSolver {
+  const char* name;
+  int id;
+};
+const SiconosSolver kSiconosSolvers[] = {
+    {"nsgs", SICONOS_FRICTION_3D_NSGS},     {"nsn_ac", SICONOS_FRICTION_3D_NSN_AC},
+    {"nsn_fb", SICONOS_FRICTION_3D_NSN_FB}, {"nsn_nm", SICONOS_FRICTION_3D_NSN_NM},
+    {"prox", SICONOS_FRICTION_3D_PROX},     {"admm", SICONOS_FRICTION_3D_ADMM},
+    {"vi_eg", SICONOS_FRICTION_3D_VI_EG},   {"vi_fpp", SICONOS_FRICTION_3D_VI_FPP},
+};
+
+// A numerics problem owning copies of W, q and mu. W is stored sparse (its
+// Newton solvers factorise sparse matrices; dense storage makes them much
+// slower) or dense.
+FrictionContactProblem* makeSiconosProblem(const LocalProblem& p, bool sparse) {
+  const int n = static_cast<int>(p.W.rows());
+  NumericsMatrix* M = nullptr;
+  if (sparse) {
+    M = NM_create(NM_SPARSE, n, n);
+    NM_triplet_alloc(M, static_cast<CS_INT>((p.W.array() != 0).count()));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        if (p.W(i, j) != 0) NM_entry(M, i, j, p.W(i, j));
+  } else {
+    M = NM_create(NM_DENSE, n, n);
+    Eigen::Map<Eigen::MatrixXd>(M->matrix0, n, n) = p.W;
+  }
+  double* q = static_cast<double*>(std::malloc(sizeof(double) * n));
+  double* mu = static_cast<double*>(std::malloc(sizeof(double) * p.contacts));
+  std::copy(p.q.data(), p.q.data() + n, q);
+  std::copy(p.mu.begin(), p.mu.end(), mu);
+  return frictionContactProblem_new_with_data(p.dim, p.contacts, M, q, mu);
+}
+
+double siconosError(FrictionContactProblem* fp, const Eigen::VectorXd& r) {
+  const int n = static_cast<int>(r.size());
+  Eigen::VectorXd rr = r, u(n);
+  SolverOptions* opt = solver_options_create(SICONOS_FRICTION_3D_NSGS);
+  // u = W r + q (fc3d_compute_error recomputes it anyway)
+  double err = 0;
+  fc3d_compute_error(fp, rr.data(), u.data(), 1e-300, opt, Eigen::Map<Eigen::VectorXd>(fp->q, n).norm(),
+                     &err);
+  solver_options_delete(opt);
+  return err;
+}
+#endif
+
+double ourError(const LocalProblem& p, const Eigen::VectorXd& r) {
+  Eigen::MatrixXd W;
+  Eigen::VectorXd b;
+  std::vector<nscd::ProblemBlock> blocks;
+  toOurs(p, W, b, blocks);
+  Eigen::VectorXd P = Eigen::VectorXd::Zero(W.rows());
+  for (int a = 0; a < p.contacts; ++a)
+    for (int i = 0; i < p.dim; ++i) P(3 * a + i) = r(p.dim * a + i);
+  return nscd::solverError(W, b, P, blocks);
+}
+
+// Runs `solve` (cold start each time; it returns the milliseconds of its timed
+// part) until min_ms is measured; the fastest run.
+template <class Solve>
+double timeIt(Solve solve, double min_ms) {
+  double best = 1e300, total = 0;
+  for (int rep = 0; rep < 1000 && (rep == 0 || total < min_ms); ++rep) {
+    const double ms = solve();
+    best = std::min(best, ms);
+    total += ms;
+  }
+  return best;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  size_t a = 0;
+  while (a <= s.size()) {
+    const size_t b = s.find(',', a);
+    out.push_back(s.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  return out;
+}
+
+void printRow(FILE* f, const Row& r, bool csv) {
+  if (csv) {
+    std::fprintf(f, "%s,%d,%s,%.0e,%ld,%.3e,%.3e,%.4g,%d\n", r.problem.c_str(), r.contacts,
+                 r.solver.c_str(), r.tol, r.iterations, r.err_ours, r.err_siconos, r.ms,
+                 r.converged ? 1 : 0);
+  } else {
+    std::fprintf(f, "%-32s %4d %-10s %7.0e %7ld %10.3e %10.3e %10.4g %s\n", r.problem.c_str(),
+                 r.contacts, r.solver.c_str(), r.tol, r.iterations, r.err_ours, r.err_siconos, r.ms,
+                 r.converged ? "yes" : "NO");
+  }
+}
+
+#ifdef NSCD_WITH_SICONOS
+int convert(const char* in, const char* out, const std::string& title, const std::string& descr) {
+  FrictionContactProblem* fp = frictionContact_new_from_filename(in);
+  if (!fp) {
+    std::fprintf(stderr, "%s: cannot read a Siconos friction-contact problem\n", in);
+    return 1;
+  }
+  const int n = fp->dimension * fp->numberOfContacts;
+  // W in compressed columns, exact zeros dropped.
+  std::vector<int> colp(n + 1, 0), rowi;
+  std::vector<double> val;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double v = NM_get_value(fp->M, i, j);
+      if (v != 0) {
+        rowi.push_back(i);
+        val.push_back(v);
+      }
+    }
+    colp[j + 1] = static_cast<int>(rowi.size());
+  }
+  fclib_matrix W{};
+  W.nzmax = static_cast<int>(val.size());
+  W.m = W.n = n;
+  W.p = colp.data();
+  W.i = rowi.data();
+  W.x = val.data();
+  W.nz = -1;
+  fclib_info info{};
+  std::string t = title, d = descr, m = "U = W r + q, Coulomb friction, Siconos numerics .dat source";
+  info.title = &t[0];
+  info.description = &d[0];
+  info.math_info = &m[0];
+  fclib_local lp{};
+  lp.W = &W;
+  lp.mu = fp->mu;
+  lp.q = fp->q;
+  lp.spacedim = fp->dimension;
+  lp.info = &info;
+  std::remove(out);  // fclib appends to an existing file
+  const int ok = fclib_write_local(&lp, out);
+  frictionContactProblem_free(fp);
+  if (!ok) {
+    std::fprintf(stderr, "%s: fclib_write_local failed\n", out);
+    return 1;
+  }
+  std::printf("%s -> %s (%d contacts, %d non-zeros)\n", in, out, n / lp.spacedim, W.nzmax);
+  return 0;
+}
+#endif
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<double> tols{1e-4, 1e-8, 1e-10};
+  long max_iter = 10000;
+  double min_ms = 20;
+  std::string csv_path, title, descr, convert_in, convert_out, measure = "siconos";
+  std::string storage = "best";  // of W for the Siconos solvers: sparse, dense or the faster
+  std::vector<std::string> siconos_names{"nsgs", "nsn_ac", "nsn_fb", "prox"};
+  std::vector<const char*> files;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--tol") {
+      tols.clear();
+      for (const std::string& s : split(next())) tols.push_back(std::atof(s.c_str()));
+    } else if (a == "--max-iter") max_iter = std::atol(next().c_str());
+    else if (a == "--min-ms") min_ms = std::atof(next().c_str());
+    else if (a == "--csv") csv_path = next();
+    else if (a == "--measure") measure = next();
+    else if (a == "--siconos-storage") storage = next();
+    else if (a == "--siconos") {
+      const std::string s = next();
+      siconos_names = s == "none" ? std::vector<std::string>{} : split(s);
+    } else if (a == "--convert") {
+      convert_in = next();
+      convert_out = next();
+    } else if (a == "--title") title = next();
+    else if (a == "--description") descr = next();
+    else if (!a.empty() && a[0] == '-') {
+      std::fprintf(stderr,
+                   "usage: %s [--tol 1e-4,1e-8,1e-10] [--max-iter N] [--siconos nsgs,nsn_ac,...|none] "
+                   "[--csv FILE] [--min-ms T] [--measure siconos|nscd] [--siconos-storage best|sparse|dense] "
+                   "PROBLEM.hdf5...\n"
+                   "       %s --convert IN.dat OUT.hdf5 [--title T] [--description D]\n",
+                   argv[0], argv[0]);
+      return 2;
+    } else files.push_back(argv[i]);
+  }
+  if (!convert_in.empty()) {
+#ifdef NSCD_WITH_SICONOS
+    return convert(convert_in.c_str(), convert_out.c_str(), title, descr);
+#else
+    std::fprintf(stderr, "--convert needs a build with Siconos numerics\n");
+    return 2;
+#endif
+  }
+#ifndef NSCD_WITH_SICONOS
+  siconos_names.clear();
+#endif
+  FILE* csv = nullptr;
+  if (!csv_path.empty()) {
+    csv = std::fopen(csv_path.c_str(), "w");
+    if (!csv) {
+      std::fprintf(stderr, "cannot write %s\n", csv_path.c_str());
+      return 1;
+    }
+    std::fprintf(csv, "problem,contacts,solver,tol,iterations,error_nscd,error_siconos,time_ms,converged\n");
+  }
+  std::printf("%-32s %4s %-10s %7s %7s %10s %10s %10s %s\n", "problem", "nc", "solver", "tol", "iter",
+              "err(nscd)", "err(sicon)", "time ms", "conv");
+  int failures = 0;
+  for (const char* path : files) {
+    LocalProblem p;
+    if (!readProblem(path, p)) {
+      std::fprintf(stderr, "%s: not a readable FCLib local or global problem\n", path);
+      ++failures;
+      continue;
+    }
+    Eigen::MatrixXd W;
+    Eigen::VectorXd b;
+    std::vector<nscd::ProblemBlock> blocks;
+    toOurs(p, W, b, blocks);
+#ifdef NSCD_WITH_SICONOS
+    FrictionContactProblem* fp = p.dim == 3 ? makeSiconosProblem(p, storage != "dense") : nullptr;
+    FrictionContactProblem* fp_other =
+        p.dim == 3 && storage == "best" ? makeSiconosProblem(p, false) : nullptr;
+#endif
+    for (double tol : tols) {
+      // ours
+      nscd::FrictionContactSolver solver;
+      nscd::SolverOptions opt;
+      // Same absolute residual as Siconos's relative one: scale by |q| / max(1, |q|).
+      const double qn = b.norm();
+      opt.tolerance = measure == "siconos" && qn > 0 ? tol * qn / std::max(1.0, qn) : tol;
+      opt.max_iterations = static_cast<int>(std::min<long>(max_iter, 1 << 30));
+      Eigen::VectorXd P(W.rows());
+      nscd::SolverReport rep;
+      Row r;
+      r.problem = p.name;
+      r.contacts = p.contacts;
+      r.solver = "nscd";
+      r.tol = tol;
+      r.ms = timeIt([&] {
+        P.setZero();
+        const auto t0 = Clock::now();
+        rep = solver.solve(W, b, blocks, opt, P);
+        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      }, min_ms);
+      r.iterations = rep.iterations;
+      r.converged = rep.converged;
+      r.err_ours = nscd::solverError(W, b, P, blocks);
+#ifdef NSCD_WITH_SICONOS
+      if (fp) {
+        Eigen::VectorXd rs(p.W.rows());
+        for (int a = 0; a < p.contacts; ++a) rs.segment<3>(3 * a) = P.segment<3>(3 * a);
+        r.err_siconos = siconosError(fp, rs);
+      }
+#endif
+      printRow(stdout, r, false);
+      if (csv) printRow(csv, r, true);
+      if (!r.converged) ++failures;
+#ifdef NSCD_WITH_SICONOS
+      if (!fp) continue;
+      for (const std::string& sname : siconos_names) {
+        int id = -1;
+        for (const SiconosSolver& s : kSiconosSolvers)
+          if (sname == s.name) id = s.id;
+        if (id < 0) {
+          std::fprintf(stderr, "unknown Siconos solver %s\n", sname.c_str());
+          continue;
+        }
+        // Each storage of W in turn ("best": keep the converged, then faster, run).
+        Row best;
+        bool have = false;
+        for (int k = 0; k < 2; ++k) {
+          FrictionContactProblem* fpk = k == 0 ? fp : fp_other;
+          if (!fpk) continue;
+          const int n = static_cast<int>(p.W.rows());
+          Eigen::VectorXd reac(n), velo(n);
+          int info = -1;
+          long iters = 0;
+          Row s;
+          s.problem = p.name;
+          s.contacts = p.contacts;
+          s.solver = sname + (k == 0 && storage != "dense" ? "/sp" : "/de");
+          s.tol = tol;
+          s.ms = timeIt([&] {
+            SolverOptions* so = solver_options_create(id);
+            so->dparam[SICONOS_DPARAM_TOL] = tol;
+            so->iparam[SICONOS_IPARAM_MAX_ITER] = static_cast<int>(max_iter);
+            reac.setZero();
+            velo.setZero();
+            const auto t0 = Clock::now();
+            info = fc3d_driver(fpk, reac.data(), velo.data(), so);
+            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+            iters = so->iparam[SICONOS_IPARAM_ITER_DONE];
+            solver_options_delete(so);
+            return ms;
+          }, min_ms);
+          s.iterations = iters;
+          s.err_siconos = siconosError(fp, reac);
+          s.err_ours = ourError(p, reac);
+          s.converged = info == 0 && std::isfinite(s.err_siconos);
+          if (!have || (s.converged && !best.converged) ||
+              (s.converged == best.converged && s.ms < best.ms)) {
+            best = s;
+            have = true;
+          }
+        }
+        const Row& s = best;
+        printRow(stdout, s, false);
+        if (csv) printRow(csv, s, true);
+      }
+#endif
+    }
+#ifdef NSCD_WITH_SICONOS
+    if (fp) frictionContactProblem_free(fp);
+    if (fp_other) frictionContactProblem_free(fp_other);
+#endif
+  }
+  if (csv) std::fclose(csv);
+  return failures == 0 ? 0 : 3;
+}
