@@ -87,7 +87,21 @@ void BM_SceneFile(benchmark::State& state, const char* rel) {
 }
 BENCHMARK_CAPTURE(BM_SceneFile, journal, "urdf/journal.urdf")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SceneFile, clearance_pendulum, "urdf/clearance_pendulum.urdf")->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_SceneFile, clearance_pendulum_planar, "urdf/clearance_pendulum_planar.urdf")->Unit(benchmark::kMicrosecond);
+
+// The clearance pendulum of the tests (50 µm, mu 0.1, h 1e-5), in 3D and planar mode.
+void BM_ClearancePendulum(benchmark::State& state, const char* planar) {
+  auto sim = makeSim(nscd_test::clearancePendulumScene(50e-6, 0.1, 4.5e-3, 0.05, 0.5236, 1e-5, true, planar));
+  runSteps(state, *sim, 1000);
+}
+BENCHMARK_CAPTURE(BM_ClearancePendulum, three_d, "false")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ClearancePendulum, planar, "xy")->Unit(benchmark::kMicrosecond);
+
+// The journal at rest (sleeve on a pin, 0.05 mm clearance) from the tests.
+void BM_JournalAtRest(benchmark::State& state) {
+  auto sim = makeSim(nscd_test::sleeveScene(0.05e-3, 0.0, 0.2, -9.81, 1e-4));
+  runSteps(state, *sim, 2000);
+}
+BENCHMARK(BM_JournalAtRest)->Unit(benchmark::kMicrosecond);
 
 // A whole nscd_run (process start, load, 1 s of the ball, JSON): wall time per run.
 void BM_NscdRunBall(benchmark::State& state) {
