@@ -14,8 +14,9 @@ using namespace nscd;
 
 namespace {
 
-std::unique_ptr<Simulator> makeSim(const std::string& xml) {
-  return std::make_unique<Simulator>(loadSceneFromString(xml, "bench.urdf"));
+std::unique_ptr<Simulator> makeSim(const std::string& xml,
+                                   const std::vector<SettingOverride>& o = {}) {
+  return std::make_unique<Simulator>(loadSceneFromString(xml, "bench.urdf", o));
 }
 
 // Steps a scene `warm` steps first (contacts established), then times single steps;
@@ -96,12 +97,22 @@ void BM_ClearancePendulum(benchmark::State& state, const char* planar) {
 BENCHMARK_CAPTURE(BM_ClearancePendulum, three_d, "false")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_ClearancePendulum, planar, "xy")->Unit(benchmark::kMicrosecond);
 
-// The journal at rest (sleeve on a pin, 0.05 mm clearance) from the tests.
-void BM_JournalAtRest(benchmark::State& state) {
-  auto sim = makeSim(nscd_test::sleeveScene(0.05e-3, 0.0, 0.2, -9.81, 1e-4));
+// The journal at rest (sleeve on a pin, 0.05 mm clearance) from the tests: 2 of its
+// 8 candidate contacts are closed. "no_skip" forces all 8 into the solver
+// (activation_margin = 1 m) to measure what skipping the open ones saves.
+void BM_JournalAtRest(benchmark::State& state, const char* margin) {
+  auto sim = makeSim(nscd_test::sleeveScene(0.05e-3, 0.0, 0.2, -9.81, 1e-4),
+                     {{"activation_margin", margin, "bench"}});
   runSteps(state, *sim, 2000);
 }
-BENCHMARK(BM_JournalAtRest)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JournalAtRest, skip, "0")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JournalAtRest, no_skip, "1")->Unit(benchmark::kMicrosecond);
+void BM_ClearancePendulumNoSkip(benchmark::State& state) {
+  auto sim = makeSim(nscd_test::clearancePendulumScene(50e-6, 0.1, 4.5e-3, 0.05, 0.5236, 1e-5),
+                     {{"activation_margin", "1", "bench"}});
+  runSteps(state, *sim, 1000);
+}
+BENCHMARK(BM_ClearancePendulumNoSkip)->Unit(benchmark::kMicrosecond);
 
 // A whole nscd_run (process start, load, 1 s of the ball, JSON): wall time per run.
 void BM_NscdRunBall(benchmark::State& state) {

@@ -17,10 +17,11 @@
 #         --fps N           frames per second (default 15)
 #         --panels          keep RViz's side panels (default: 3D view and Time panel only)
 #     -h, --help
-# The package must be built: with NSCD_WS (default <repo>/build/ws, what
+# The package must be built: with NSCD_WS (default <repo>/.build/ws, what
 # scripts/build.sh makes) or an environment where `rospack find nscd_sim` works.
-# The simulation starts paused and is resumed when ffmpeg starts, so the video
-# begins at sim time 0.
+# The simulation starts paused and is resumed as ffmpeg starts, so the video
+# begins at sim time 0 (the first ~second, while the resume call starts up,
+# shows the initial configuration).
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 
@@ -53,7 +54,7 @@ for tool in Xvfb ffmpeg xwininfo roslaunch rosservice; do
 done
 
 # ROS environment: the catkin workspace if there is one, else the caller's.
-ws=${NSCD_WS:-$repo/build/ws}
+ws=${NSCD_WS:-$repo/.build/ws}
 if [ -f "$ws/devel/setup.bash" ]; then
   set +u; source "$ws/devel/setup.bash"; set -u
 fi
@@ -148,11 +149,11 @@ setsid ffmpeg -nostdin -y -loglevel error -f x11grab -draw_mouse 0 -video_size "
   -framerate "$fps" -i "$DISPLAY" -t "$duration" -c:v libx264 -preset veryfast -pix_fmt yuv420p \
   "$output" >"$tmp/ffmpeg.log" 2>&1 &
 ffmpeg_pid=$!
-rosservice call /nscd_sim_node/pause "data: false" >/dev/null
-( sleep "$snapshot_at"
-  ffmpeg -nostdin -y -loglevel error -f x11grab -draw_mouse 0 -video_size "${width}x${height}" \
-    -i "$DISPLAY" -frames:v 1 "$png" ) >"$tmp/snapshot.log" 2>&1 &
+setsid bash -c 'sleep "$1" && exec ffmpeg -nostdin -y -loglevel error -f x11grab -draw_mouse 0 \
+  -video_size "$2" -i "$3" -frames:v 1 "$4"' snapshot "$snapshot_at" "${width}x${height}" \
+  "$DISPLAY" "$png" >"$tmp/snapshot.log" 2>&1 &
 snap_pid=$!
+rosservice call /nscd_sim_node/pause "data: false" >/dev/null
 wait "$ffmpeg_pid" || { echo "record_video.sh: ffmpeg failed:" >&2; cat "$tmp/ffmpeg.log" >&2; exit 1; }
 ffmpeg_pid=""
 wait "$snap_pid" || echo "record_video.sh: snapshot failed: $(cat "$tmp/snapshot.log")" >&2

@@ -152,6 +152,11 @@ struct Settings {
   double projection_tolerance = 1e-9;  // m (and rad for orientation rows)
   int projection_max_iterations = 20;
   double activation_gamma = 0.5;    // predicted gap g + gamma h u_N
+  // Extra distance (m) under which a candidate contact enters the solver even if
+  // it cannot close within the step. 0 (default) skips every contact that cannot
+  // close; a large value puts every candidate in the solver (it then acts as a
+  // velocity-level constraint): a knob to measure what skipping saves.
+  double activation_margin = 0;
   PlanarMode planar = PlanarMode::None;
 };
 

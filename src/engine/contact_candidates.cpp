@@ -70,7 +70,7 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
                          double extra_margin, StepWorkspace& ws) {
   const Settings& set = m.settings;
   const bool planar = set.planar == PlanarMode::XY;
-  const double eps_act = set.projection_tolerance;
+  const double eps_act = set.projection_tolerance + (normal_only ? 0.0 : set.activation_margin);
   const int npairs = static_cast<int>(m.contacts.size());
 
   auto addBlock = [&](const ContactPoint& cp, int ia, int ib, double mu, double e, int source,

@@ -77,12 +77,13 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
   clear.action = Marker::DELETEALL;
   out.markers.push_back(clear);
 
-  const std_msgs::ColorRGBA red = color(0.95f, 0.15f, 0.1f);
+  // Not red: RViz draws URDF visuals without a material in red.
+  const std_msgs::ColorRGBA green = color(0.1f, 0.9f, 0.2f);
   const std_msgs::ColorRGBA blue = color(0.15f, 0.45f, 1.0f);
   const std_msgs::ColorRGBA yellow = color(1.0f, 0.85f, 0.1f);
   const std_msgs::ColorRGBA white = color(0.95f, 0.95f, 0.95f);
   const std_msgs::ColorRGBA grey = color(0.6f, 0.6f, 0.6f, 0.8f);
-  const std_msgs::ColorRGBA green = color(0.1f, 0.85f, 0.2f);
+  const std_msgs::ColorRGBA cyan = color(0.1f, 0.9f, 0.9f);
   const std_msgs::ColorRGBA magenta = color(0.9f, 0.1f, 0.9f);
 
   Marker m;
@@ -90,7 +91,7 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
     const nscd::ContactReport& c = contacts[i];
     const int id = static_cast<int>(i);
     if (makeArrow(style, stamp, "normal_force", id, c.point,
-                  style.force_scale * c.fn * c.normal, red, m))
+                  style.force_scale * c.fn * c.normal, green, m))
       out.markers.push_back(m);
     if (makeArrow(style, stamp, "tangential_force", id, c.point, style.force_scale * c.ft,
                   c.sliding ? yellow : blue, m))
@@ -119,7 +120,7 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
 
     const nscd::Vec3 tip =
         v.center + v.ecc * radius * (std::cos(v.angle) * v.ref + std::sin(v.angle) * e2);
-    const std_msgs::ColorRGBA& c = v.fn > 0 ? magenta : green;
+    const std_msgs::ColorRGBA& c = v.fn > 0 ? magenta : cyan;
     m = makeMarker(style, stamp, "eccentricity", id, Marker::LINE_LIST);
     m.scale.x = 0.2 * style.size;
     m.color = c;

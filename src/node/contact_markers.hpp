@@ -33,12 +33,12 @@ struct EccentricityView {
 
 EccentricityView eccentricityView(const nscd::Simulator& sim, int clearance_joint);
 
-// Per contact: a normal-force arrow (red), a tangential-force arrow (blue when
+// Per contact: a normal-force arrow (green), a tangential-force arrow (blue when
 // sticking, yellow when sliding), both from the contact point along the force on
-// body A, length |F| * force_scale, and a sphere at the point. Per clearance
-// joint: the clearance circle magnified by ecc_scale (radius c_r * ecc_scale, grey)
-// and a line from the bearing centre to the magnified journal-centre offset
-// (green while free, magenta while in contact).
+// body A, length |F| * force_scale, and a sphere at the point (white). Per
+// clearance joint: the clearance circle magnified by ecc_scale (radius
+// c_r * ecc_scale, grey) and a line from the bearing centre to the magnified
+// journal-centre offset (cyan while free, magenta while in contact).
 void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
                          const std::vector<EccentricityView>& clearance,
                          const MarkerStyle& style, const ros::Time& stamp,

@@ -28,7 +28,7 @@
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/SetBool.h>
-#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "contact_markers.hpp"
@@ -82,7 +82,8 @@ const std::vector<std::string>& nodeParamKeys() {
   return keys;
 }
 
-// A non-negative finite number parameter (int, double or numeric string).
+// A finite number parameter, > 0 if `positive` else >= 0 (int, double or numeric
+// string); `fallback` when absent. Throws nscd::SceneError.
 double numberParam(const ros::NodeHandle& pnh, const std::string& key, double fallback,
                    bool positive) {
   XmlRpc::XmlRpcValue v;
@@ -123,10 +124,11 @@ void warnUnknownParams(const ros::NodeHandle& pnh) {
   for (const std::string& n : names) {
     if (n.compare(0, prefix.size(), prefix) != 0) continue;
     const std::string key = n.substr(prefix.size());
-    if (!known.count(key.substr(0, key.find('/'))))
-      ROS_WARN("unknown parameter %s ignored (known: simulation settings and %s)", n.c_str(),
-               "scene, real_time_factor, publish_rate, diagnostics_rate, start_paused, "
-               "force_scale, marker_size, ecc_scale");
+    if (known.count(key.substr(0, key.find('/')))) continue;
+    std::string node_keys;
+    for (const std::string& k : nodeParamKeys()) node_keys += (node_keys.empty() ? "" : ", ") + k;
+    ROS_WARN("unknown parameter %s ignored (known: the simulation settings and %s)", n.c_str(),
+             node_keys.c_str());
   }
 }
 
@@ -159,11 +161,15 @@ class SimNode {
       geometry_msgs::TransformStamped t;
       t.header.frame_id = model.world_frame;
       t.child_frame_id = model.links[i].name;
-      transforms_.push_back(t);
+      tf_msg_.transforms.push_back(t);
     }
     for (size_t i = 0; i < model.clearance_joints.size(); ++i)
       eccentricity_.push_back(eccentricityView(*sim_, static_cast<int>(i)));
 
+    // tf2_ros::TransformBroadcaster without its publisher hidden: a new /tf
+    // subscriber gets the last transforms at once (see onTfSubscriber).
+    tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>(
+        "/tf", 100, [this](const ros::SingleSubscriberPublisher& p) { onTfSubscriber(p); });
     contacts_pub_ = pnh_.advertise<nscd_sim::ContactArray>("contacts", 2);
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("contact_markers", 2);
     diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 2);
@@ -237,11 +243,17 @@ class SimNode {
         if (now >= next_diag) next_diag = now + diag_period;
       }
 
+      // Sleep only when no step is due: until the next step, publication or
+      // diagnostics, and at most 5 ms (pause and reset requests set flags).
       now = SteadyClock::now();
-      auto wake = std::min(next_pub, next_diag);
-      if (running_ && opt_.real_time_factor == 0) continue;
-      // Poll often enough for steps due (rtf > 0) and for service requests.
-      wake = std::min(wake, now + std::chrono::milliseconds(running_ ? 2 : 5));
+      auto wake = std::min({next_pub, next_diag, now + std::chrono::milliseconds(5)});
+      if (running_) {
+        if (opt_.real_time_factor == 0) continue;
+        const double ahead = simTime() + 0.5 * dt - anchor_sim_;  // sim s past the anchor
+        const auto next_step = anchor_wall_ + wallDuration(ahead / opt_.real_time_factor);
+        if (next_step <= now) continue;
+        wake = std::min(wake, next_step);
+      }
       std::this_thread::sleep_until(wake);
     }
   }
@@ -257,8 +269,18 @@ class SimNode {
     anchor_sim_ = simTime();
   }
 
+  // Callbacks lock through this: the stepping loop, which retakes mutex_ after
+  // every step, lets a waiting callback in first (std::mutex is not fair).
+  std::unique_lock<std::mutex> callbackLock() {
+    ++callbacks_waiting_;
+    std::unique_lock<std::mutex> lock(mutex_);
+    --callbacks_waiting_;
+    return lock;
+  }
+
   // One step if running and sim time is before `until`; false otherwise.
   bool stepOnce(double until) {
+    while (callbacks_waiting_ > 0) std::this_thread::yield();
     std::lock_guard<std::mutex> lock(mutex_);
     if (!running_ || sim_->state().t >= until) return false;
     stepLocked();
@@ -279,6 +301,10 @@ class SimNode {
     if (status == nscd::StepStatus::NotConverged) {
       ++window_.unconverged_total;
       ++window_.unconverged_window;
+      if (unconverged_throttle_.ready(10.0))
+        ROS_WARN("nscd_sim_node: step at t=%.9g s did not converge (%d iterations, residual "
+                 "%.3g); continuing (%llu such steps so far)",
+                 t0, st.iterations, st.residual, window_.unconverged_total);
     } else if (status == nscd::StepStatus::NonFinite) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
@@ -300,7 +326,7 @@ class SimNode {
     const std::string& name = sim_->model().actuators[actuator].name;
     bool accepted = false;
     if (std::isfinite(value)) {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const auto lock = callbackLock();
       accepted = sim_->setCommand(actuator, value);
     }
     if (!accepted && command_throttle_.ready(1.0))
@@ -310,7 +336,7 @@ class SimNode {
 
   bool onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const auto lock = callbackLock();
       sim_->reset();
       steps_ = 0;
       failed_ = false;
@@ -325,7 +351,7 @@ class SimNode {
   }
 
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    const auto lock = callbackLock();
     paused_ = req.data;
     updateRunning();
     reanchor_requested_ = true;
@@ -341,7 +367,7 @@ class SimNode {
   bool onStep(nscd_sim::Step::Request& req, nscd_sim::Step::Response& res) {
     const uint32_t count = std::max<uint32_t>(1, req.count);
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      const auto lock = callbackLock();
       while (res.steps_taken < count && !failed_) {
         stepLocked();
         ++res.steps_taken;
@@ -373,6 +399,18 @@ class SimNode {
     }
   }
 
+  // A listener that connects while a paused sim-time node sends no tf (e.g. RViz
+  // started after the pause) would see no links: send it the last transforms.
+  void onTfSubscriber(const ros::SingleSubscriberPublisher& pub) {
+    tf2_msgs::TFMessage msg;
+    {
+      const auto lock = callbackLock();
+      if (!have_tf_stamp_) return;
+      msg = tf_msg_;
+    }
+    pub.publish(msg);
+  }
+
   ros::Time stampFor(double sim_t) const {
     return opt_.use_sim_time ? ros::Time(sim_t) : ros::Time::now();
   }
@@ -389,12 +427,13 @@ class SimNode {
       const nscd::Model& model = sim_->model();
       t = sim_->state().t;
       const ros::Time stamp = stampFor(t);
-      // With sim time, a repeated stamp (paused) would make tf listeners complain.
+      // With sim time, a repeated stamp (paused) would make tf listeners complain
+      // (TF_REPEATED_DATA); late subscribers get the transforms from onTfSubscriber.
       publish_tf = !(opt_.use_sim_time && stamp == last_tf_stamp_ && have_tf_stamp_);
       if (publish_tf) {
         for (size_t i = 0; i < tf_links_.size(); ++i) {
-          transforms_[i].header.stamp = stamp;
-          transforms_[i].transform = toTransform(sim_->linkPose(tf_links_[i]));
+          tf_msg_.transforms[i].header.stamp = stamp;
+          tf_msg_.transforms[i].transform = toTransform(sim_->linkPose(tf_links_[i]));
         }
         last_tf_stamp_ = stamp;
         have_tf_stamp_ = true;
@@ -416,7 +455,7 @@ class SimNode {
       }
     }
     if (publish_tf) {
-      tf_.sendTransform(transforms_);
+      tf_pub_.publish(tf_msg_);
       ++window_publishes_;
     }
     if (want_contacts) contacts_pub_.publish(contacts_msg_);
@@ -470,6 +509,7 @@ class SimNode {
   std::atomic<bool> publish_requested_{false};
   std::atomic<bool> diagnostics_requested_{false};
   std::atomic<bool> reanchor_requested_{false};
+  std::atomic<int> callbacks_waiting_{0};
   std::string failure_;
   unsigned long long steps_ = 0;
   DiagnosticsWindow window_;
@@ -480,21 +520,20 @@ class SimNode {
   SteadyClock::time_point anchor_wall_;
   double anchor_sim_ = 0;
 
-  tf2_ros::TransformBroadcaster tf_;
   std::vector<int> tf_links_;
-  std::vector<geometry_msgs::TransformStamped> transforms_;
+  tf2_msgs::TFMessage tf_msg_;  // written by the loop thread under mutex_
   ros::Time last_tf_stamp_;
   bool have_tf_stamp_ = false;
   nscd_sim::ContactArray contacts_msg_;
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<EccentricityView> eccentricity_;
 
-  ros::Publisher contacts_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
+  ros::Publisher tf_pub_, contacts_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
   std::vector<ros::Subscriber> command_subs_;
   std::set<std::string> actuator_names_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
   ros::WallTimer topic_check_;
-  WallThrottle command_throttle_, unknown_topic_throttle_;
+  WallThrottle command_throttle_, unknown_topic_throttle_, unconverged_throttle_;
 };
 
 }  // namespace

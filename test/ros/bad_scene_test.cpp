@@ -1,0 +1,118 @@
+// rostest: nscd_sim_node refuses bad input with exit status 2 and one line that
+// names the file and line (scene) or the parameter (settings). The test runs the
+// node binary (NSCD_NODE_EXE) against the master rostest started.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+namespace {
+
+struct RunResult {
+  int status = -1;  // exit status, or -1 if it did not exit by itself
+  std::string output;  // stdout and stderr
+};
+
+// Runs the node with extra ROS arguments (a fresh __name each time: private
+// parameters given as _key:=value stay on the master); kills it after `timeout` seconds.
+RunResult runNode(const std::vector<std::string>& args, double timeout = 15.0) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(fds[1], 1);
+    dup2(fds[1], 2);
+    close(fds[0]);
+    close(fds[1]);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(NSCD_NODE_EXE));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(NSCD_NODE_EXE, argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  fcntl(fds[0], F_SETFL, O_NONBLOCK);
+  RunResult r;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
+  int wstatus = 0;
+  bool exited = false;
+  char buf[4096];
+  while (true) {
+    ssize_t n;
+    while ((n = read(fds[0], buf, sizeof buf)) > 0) r.output.append(buf, n);
+    if (exited) break;
+    if (waitpid(pid, &wstatus, WNOHANG) == pid) {
+      exited = true;
+      continue;  // drain the pipe once more
+    }
+    if (std::chrono::steady_clock::now() > end) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &wstatus, 0);
+      close(fds[0]);
+      r.output += "\n[killed after timeout]";
+      return r;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  close(fds[0]);
+  if (WIFEXITED(wstatus)) r.status = WEXITSTATUS(wstatus);
+  return r;
+}
+
+const std::string kSource = NSCD_SOURCE_DIR;
+
+}  // namespace
+
+TEST(BadScene, InvalidSceneExitsWithFileAndLine) {
+  const RunResult r = runNode({"__name:=bad_scene_file", "_scene:=" + kSource +
+                                                             "/test/ros/bad_scene.urdf"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("FATAL"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bad_scene.urdf:"), std::string::npos) << r.output;
+  // "FILE:LINE:" with a line number
+  const size_t at = r.output.find("bad_scene.urdf:");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_TRUE(std::isdigit(static_cast<unsigned char>(r.output[at + 15]))) << r.output;
+}
+
+TEST(BadScene, MissingFileExits) {
+  const RunResult r = runNode({"__name:=missing_scene_file", "_scene:=/nonexistent/scene.urdf"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("/nonexistent/scene.urdf"), std::string::npos) << r.output;
+}
+
+TEST(BadScene, NoSceneExits) {
+  // No ~scene and no robot_description on this master.
+  const RunResult r = runNode({"__name:=no_scene"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("robot_description"), std::string::npos) << r.output;
+}
+
+TEST(BadScene, BadSettingParameterExits) {
+  const RunResult r = runNode({"__name:=bad_setting",
+                               "_scene:=" + kSource + "/urdf/ball.urdf", "_dt:=-1.0"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("dt"), std::string::npos) << r.output;
+}
+
+TEST(BadScene, BadNodeParameterExits) {
+  const RunResult r = runNode({"__name:=bad_node_param",
+                               "_scene:=" + kSource + "/urdf/ball.urdf", "_publish_rate:=0"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("publish_rate"), std::string::npos) << r.output;
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "bad_scene_test");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,21 @@
+#include "ros_test_support.hpp"
+
+#include <cmath>
+
+namespace nscd_test {
+
+const char* const kNode = "/nscd_sim_node";
+
+std::string nodeTopic(const std::string& name) { return std::string(kNode) + "/" + name; }
+
+std::string sceneParam() {
+  std::string scene;
+  ros::param::get("~scene", scene);
+  return scene;
+}
+
+double yawOf(const geometry_msgs::Quaternion& q) {
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+}  // namespace nscd_test

@@ -1,0 +1,74 @@
+// Helpers of the node's rostest test nodes: wait for messages and services in
+// wall time (the tests must not depend on /clock), and call services.
+#pragma once
+
+#include <functional>
+#include <mutex>
+#include <string>
+
+#include <geometry_msgs/Quaternion.h>
+#include <ros/ros.h>
+
+namespace nscd_test {
+
+// The node under test (its name in the .test files).
+extern const char* const kNode;  // "/nscd_sim_node"
+std::string nodeTopic(const std::string& name);  // "/nscd_sim_node/<name>"
+
+// The test node's private parameter ~scene (the scene both nodes load).
+std::string sceneParam();
+
+// Rotation angle about z of a quaternion (rad, in (-pi, pi]).
+double yawOf(const geometry_msgs::Quaternion& q);
+
+// Waits up to `timeout` wall seconds for a message on `topic` that satisfies
+// `pred`; returns it, or null on timeout. Needs a running AsyncSpinner.
+template <class M>
+boost::shared_ptr<const M> waitForMessage(const std::string& topic,
+                                          const std::function<bool(const M&)>& pred,
+                                          double timeout) {
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  boost::shared_ptr<const M> found;
+  ros::Subscriber sub = nh.subscribe<M>(topic, 10, [&](const boost::shared_ptr<const M>& msg) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!found && pred(*msg)) found = msg;
+  });
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (found) break;
+    }
+    ros::WallDuration(0.002).sleep();
+  }
+  sub.shutdown();
+  std::lock_guard<std::mutex> lock(mutex);
+  return found;
+}
+
+template <class M>
+boost::shared_ptr<const M> waitForMessage(const std::string& topic, double timeout) {
+  return waitForMessage<M>(topic, [](const M&) { return true; }, timeout);
+}
+
+// Waits for the service (wall time) and calls it; false if either fails.
+template <class S>
+bool callService(const std::string& name, S& srv, double timeout = 10.0) {
+  if (!ros::service::waitForService(name, static_cast<int>(timeout * 1000))) return false;
+  return ros::service::call(name, srv);
+}
+
+// Publishes one message once a subscriber is connected (wall timeout).
+template <class M>
+bool publishWhenConnected(ros::Publisher& pub, const M& msg, double timeout = 10.0) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (pub.getNumSubscribers() == 0) {
+    if (ros::WallTime::now() > end) return false;
+    ros::WallDuration(0.01).sleep();
+  }
+  pub.publish(msg);
+  return true;
+}
+
+}  // namespace nscd_test
