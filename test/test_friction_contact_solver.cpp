@@ -234,20 +234,42 @@ TEST(LocalSolver, Timing) {
               time(bStick, false), time(bSlide, false), time(bSlide, true));
 }
 
-// ---------------------------------------------------------------- NSGS
+// ---------------------------------------------------------------- NSGS / Newton
+// Every problem-level test runs for each SolverMethod (Auto, NSGS, Newton).
 
-TEST(Nsgs, SingleFrictionlessContact) {
+namespace {
+
+class Nsgs : public ::testing::TestWithParam<SolverMethod> {
+ protected:
+  SolverOptions opts() const {
+    SolverOptions o;
+    o.method = GetParam();
+    return o;
+  }
+};
+
+const char* methodName(SolverMethod m) {
+  return m == SolverMethod::Auto ? "Auto" : m == SolverMethod::NSGS ? "NSGS" : "Newton";
+}
+
+}  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Method, Nsgs,
+                         ::testing::Values(SolverMethod::Auto, SolverMethod::NSGS, SolverMethod::Newton),
+                         [](const ::testing::TestParamInfo<SolverMethod>& i) { return methodName(i.param); });
+
+TEST_P(Nsgs, SingleFrictionlessContact) {
   MatrixXd W(1, 1);
   W << 4;
   VectorXd b(1), P = VectorXd::Zero(1);
   b << -2;
   std::vector<ProblemBlock> blocks{{BlockKind::Frictionless, 0, 1, 0}};
   FrictionContactSolver s;
-  SolverReport r = s.solve(W, b, blocks, {}, P);
+  SolverReport r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
   EXPECT_DOUBLE_EQ(P(0), 0.5);  // 1-D LCP: P = max(0, -b/W)
   b << 3;
-  r = s.solve(W, b, blocks, {}, P);
+  r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(P(0), 0.0);
 }
@@ -286,7 +308,7 @@ struct BoxOnPlane {
 
 }  // namespace
 
-TEST(Nsgs, HyperstaticBoxAtRest) {
+TEST_P(Nsgs, HyperstaticBoxAtRest) {
   BoxOnPlane box;
   const MatrixXd W = box.W();
   const VectorXd b = box.b(Eigen::Matrix<double, 6, 1>::Zero());
@@ -294,12 +316,12 @@ TEST(Nsgs, HyperstaticBoxAtRest) {
   for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, 0.5});
   VectorXd P = VectorXd::Zero(12);
   FrictionContactSolver s;
-  SolverOptions o;
+  SolverOptions o = opts();
   o.tolerance = 1e-10;
   o.max_iterations = 2000;
   const SolverReport r = s.solve(W, b, blocks, o, P);
-  std::printf("[ figures  ] box at rest (hyperstatic): %d iterations, residual %.2e\n", r.iterations,
-              r.residual);
+  std::printf("[ figures  ] %s box at rest (hyperstatic): %d iterations, residual %.2e\n",
+              methodName(GetParam()), r.iterations, r.residual);
   ASSERT_TRUE(r.converged);
   EXPECT_LE(solverError(W, b, P, blocks), 1e-10);
   double sumN = 0;
@@ -309,7 +331,7 @@ TEST(Nsgs, HyperstaticBoxAtRest) {
   EXPECT_LT((W * P + b).norm(), 1e-9);
 }
 
-TEST(Nsgs, HyperstaticBoxSliding) {
+TEST_P(Nsgs, HyperstaticBoxSliding) {
   BoxOnPlane box;
   const MatrixXd W = box.W();
   Eigen::Matrix<double, 6, 1> v0 = Eigen::Matrix<double, 6, 1>::Zero();
@@ -320,12 +342,12 @@ TEST(Nsgs, HyperstaticBoxSliding) {
   for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, mu});
   VectorXd P = VectorXd::Zero(12);
   FrictionContactSolver s;
-  SolverOptions o;
+  SolverOptions o = opts();
   o.tolerance = 1e-10;
   o.max_iterations = 2000;
   const SolverReport r = s.solve(W, b, blocks, o, P);
-  std::printf("[ figures  ] box sliding (hyperstatic): %d iterations, residual %.2e\n", r.iterations,
-              r.residual);
+  std::printf("[ figures  ] %s box sliding (hyperstatic): %d iterations, residual %.2e\n",
+              methodName(GetParam()), r.iterations, r.residual);
   ASSERT_TRUE(r.converged);
   double sumN = 0, sumX = 0, sumY = 0;
   for (int k = 0; k < 4; ++k) {
@@ -340,14 +362,14 @@ TEST(Nsgs, HyperstaticBoxSliding) {
 }
 
 // A pin (2 equality rows) with a known exact answer U = 0: P = -W^-1 b.
-TEST(Nsgs, BilateralBlockExact) {
+TEST_P(Nsgs, BilateralBlockExact) {
   MatrixXd W(2, 2);
   W << 3, 1, 1, 2;
   VectorXd b(2), P = VectorXd::Zero(2);
   b << 1, -2;
   std::vector<ProblemBlock> blocks{{BlockKind::Bilateral, 0, 2, 0}};
   FrictionContactSolver s;
-  const SolverReport r = s.solve(W, b, blocks, {}, P);
+  const SolverReport r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
   EXPECT_EQ(r.iterations, 1);
   const VectorXd Pexact = -W.ldlt().solve(b);
@@ -356,7 +378,7 @@ TEST(Nsgs, BilateralBlockExact) {
 }
 
 // Planar scenes: out-of-plane rows of W are zero (bilateral and tangential).
-TEST(Nsgs, ZeroRowsStayZero) {
+TEST_P(Nsgs, ZeroRowsStayZero) {
   // Rows: bilateral block of 3 (middle one out of plane), then a contact
   // whose second tangent is out of plane. One planar body: 3 DOF.
   MatrixXd G = MatrixXd::Zero(6, 3);
@@ -371,7 +393,7 @@ TEST(Nsgs, ZeroRowsStayZero) {
   std::vector<ProblemBlock> blocks{{BlockKind::Bilateral, 0, 3, 0}, {BlockKind::Frictional, 3, 3, 0.5}};
   VectorXd P = VectorXd::Constant(6, 7.0);  // garbage warm start, also on zero rows
   FrictionContactSolver s;
-  SolverOptions o;
+  SolverOptions o = opts();
   o.tolerance = 1e-12;
   const SolverReport r = s.solve(W, b, blocks, o, P);
   ASSERT_TRUE(P.allFinite());
@@ -381,7 +403,7 @@ TEST(Nsgs, ZeroRowsStayZero) {
   EXPECT_LE(solverError(W, b, P, blocks), 1e-12);
 }
 
-TEST(Nsgs, WarmStartFromSolution) {
+TEST_P(Nsgs, WarmStartFromSolution) {
   BoxOnPlane box;
   const MatrixXd W = box.W();
   Eigen::Matrix<double, 6, 1> v0 = Eigen::Matrix<double, 6, 1>::Zero();
@@ -392,41 +414,42 @@ TEST(Nsgs, WarmStartFromSolution) {
   for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, 0.3});
   VectorXd P = VectorXd::Zero(12);
   FrictionContactSolver s;
-  SolverOptions o;
+  SolverOptions o = opts();
   o.max_iterations = 2000;
   const SolverReport cold = s.solve(W, b, blocks, o, P);
   ASSERT_TRUE(cold.converged);
   const SolverReport warm = s.solve(W, b, blocks, o, P);
   EXPECT_TRUE(warm.converged);
   EXPECT_LE(warm.iterations, 1);
-  std::printf("[ figures  ] warm start: cold %d iterations, warm %d\n", cold.iterations, warm.iterations);
+  std::printf("[ figures  ] %s warm start: cold %d iterations, warm %d\n", methodName(GetParam()),
+              cold.iterations, warm.iterations);
 }
 
-TEST(Nsgs, NonFiniteReportsFailure) {
+TEST_P(Nsgs, NonFiniteReportsFailure) {
   MatrixXd W = MatrixXd::Identity(3, 3);
   W(0, 0) = NAN;
   VectorXd b = -VectorXd::Ones(3), P = VectorXd::Zero(3);
   std::vector<ProblemBlock> blocks{{BlockKind::Frictional, 0, 3, 0.5}};
   FrictionContactSolver s;
-  SolverReport r = s.solve(W, b, blocks, {}, P);
+  SolverReport r = s.solve(W, b, blocks, opts(), P);
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.iterations, 0);
   W(0, 0) = 1;
   b(1) = INFINITY;
-  r = s.solve(W, b, blocks, {}, P);
+  r = s.solve(W, b, blocks, opts(), P);
   EXPECT_FALSE(r.converged);
   EXPECT_FALSE(std::isfinite(solverError(W, b, P, blocks)));
   // A poisoned warm start is dropped, not propagated.
   b(1) = 0;
   P << NAN, 1, 2;
-  r = s.solve(W, b, blocks, {}, P);
+  r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
   EXPECT_TRUE(P.allFinite());
 }
 
 // Coupled frictionless contacts = an LCP; compare with brute-force enumeration
 // of the 2^n active sets (unique solution for positive definite W).
-TEST(Nsgs, FrictionlessMatchesBruteForceLcp) {
+TEST_P(Nsgs, FrictionlessMatchesBruteForceLcp) {
   std::mt19937 rng(8);
   std::normal_distribution<double> g(0, 1);
   const int n = 5;
@@ -461,7 +484,7 @@ TEST(Nsgs, FrictionlessMatchesBruteForceLcp) {
     for (int i = 0; i < n; ++i) blocks.push_back({BlockKind::Frictionless, i, 1, 0});
     VectorXd P = VectorXd::Zero(n);
     FrictionContactSolver s;
-    SolverOptions o;
+    SolverOptions o = opts();
     o.tolerance = 1e-13;
     o.max_iterations = 20000;
     const SolverReport r = s.solve(W, b, blocks, o, P);
@@ -470,7 +493,7 @@ TEST(Nsgs, FrictionlessMatchesBruteForceLcp) {
   }
 }
 
-TEST(Nsgs, SolverErrorMatchesHandComputation) {
+TEST(SolverError, MatchesHandComputation) {
   // One frictionless row and one bilateral row, decoupled.
   MatrixXd W = MatrixXd::Identity(2, 2);
   VectorXd b(2), P(2);
@@ -487,7 +510,7 @@ namespace {
 // Random mechanisms: W = G M^-1 G^T, b = G v_free, 1-20 frictional contacts
 // (mu in [0, 1.2]) and 0-2 bilateral blocks of 1-6 rows. ndof(m) DOF.
 template <class Ndof>
-void runRandomProblems(const char* name, unsigned seed, Ndof ndofOf) {
+void runRandomProblems(const char* name, unsigned seed, SolverMethod method, Ndof ndofOf) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::normal_distribution<double> g(0, 1);
@@ -522,6 +545,7 @@ void runRandomProblems(const char* name, unsigned seed, Ndof ndofOf) {
     const VectorXd b = G * vfree;
     VectorXd P = VectorXd::Zero(m);
     SolverOptions o;
+    o.method = method;
     o.tolerance = 1e-8;
     o.max_iterations = 5000;
     const SolverReport r = s.solve(W, b, blocks, o, P);
@@ -538,19 +562,279 @@ void runRandomProblems(const char* name, unsigned seed, Ndof ndofOf) {
   std::sort(its.begin(), its.end());
   double mean = 0;
   for (int i : its) mean += i;
-  std::printf("[ figures  ] NSGS on %d random %s problems (tol 1e-8): iterations median %d, "
-              "mean %.1f, max %d\n", n, name, its[its.size() / 2], mean / its.size(), its.back());
+  std::printf("[ figures  ] %s on %d random %s problems (tol 1e-8): iterations median %d, "
+              "mean %.1f, max %d\n", methodName(method), n, name, its[its.size() / 2],
+              mean / its.size(), its.back());
   EXPECT_EQ(failures, 0);
 }
 
 }  // namespace
 
 // More DOF than rows: W positive definite.
-TEST(Nsgs, RandomProblems) {
-  runRandomProblems("positive definite", 6, [](int m, double r) { return m + 3 + int(6 * r); });
+TEST_P(Nsgs, RandomProblems) {
+  runRandomProblems("positive definite", 6, GetParam(), [](int m, double r) { return m + 3 + int(6 * r); });
 }
 
 // DOF = 0.7 rows: W singular (hyperstatic), as several contacts on one body.
-TEST(Nsgs, RandomHyperstaticProblems) {
-  runRandomProblems("hyperstatic (ndof = 0.7 m)", 7, [](int m, double) { return std::max(1, int(0.7 * m)); });
+TEST_P(Nsgs, RandomHyperstaticProblems) {
+  runRandomProblems("hyperstatic (ndof = 0.7 m)", 7, GetParam(), [](int m, double) { return std::max(1, int(0.7 * m)); });
+}
+
+// ---------------------------------------------------------------- strongly coupled problems
+
+namespace {
+
+// Rows of one contact (normal n, tangents t1, t2) on a rigid body with 6
+// velocity DOF (v, omega) at r = contact point - centre of mass.
+void contactRows(MatrixXd& G, int row, const Vector3d& r, const Vector3d& n, const Vector3d& t1,
+                 const Vector3d& t2) {
+  const Vector3d f[3] = {n, t1, t2};
+  for (int i = 0; i < 3; ++i) {
+    G.block<1, 3>(row + i, 0) = f[i].transpose();
+    G.block<1, 3>(row + i, 3) = r.cross(f[i]).transpose();
+  }
+}
+
+// A pendulum hanging on a clearance joint whose pin touches the bore at two
+// rings along the joint axis z (z = -a, +a): 2 contacts (6 rows) on one body;
+// the axial friction rows of the two rings coincide (hyperstatic).
+struct TwoRings {
+  double m = 1.5, l = 0.3, a = 0.02, zc = 0.005, g = 9.81, h = 1e-3;
+  Vector3d J{0.05, 0.01, 0.045};
+  MatrixXd G = MatrixXd::Zero(6, 6);
+  Eigen::Matrix<double, 6, 6> Minv = Eigen::Matrix<double, 6, 6>::Zero();
+  TwoRings() {
+    Minv.topLeftCorner<3, 3>() = Matrix3d::Identity() / m;
+    Minv.bottomRightCorner<3, 3>() = J.cwiseInverse().asDiagonal();
+    const Vector3d com(0, -l, zc);  // the arm hangs below the joint
+    for (int k = 0; k < 2; ++k) {
+      const Vector3d p(0, 0, k == 0 ? -a : a);  // contact on the joint axis (clearance -> 0)
+      contactRows(G, 3 * k, p - com, Vector3d::UnitY(), Vector3d::UnitX(), Vector3d::UnitZ());
+    }
+  }
+  MatrixXd W() const { return G * Minv * G.transpose(); }
+  VectorXd b(const Eigen::Matrix<double, 6, 1>& v0) const {
+    Eigen::Matrix<double, 6, 1> vfree = v0;
+    vfree(1) -= g * h;
+    return G * vfree;
+  }
+};
+
+// Independent check of Coulomb's law per frictional block (not solverError).
+void expectCoulomb(const MatrixXd& W, const VectorXd& b, const VectorXd& P,
+                   const std::vector<ProblemBlock>& blocks, double tol, const char* what) {
+  const VectorXd U = W * P + b;
+  for (const ProblemBlock& bl : blocks) {
+    if (bl.kind != BlockKind::Frictional) continue;
+    const Vector3d p = P.segment<3>(bl.row), u = U.segment<3>(bl.row);
+    EXPECT_TRUE(inCone(p, bl.mu, tol)) << what;
+    EXPECT_GE(u(0), -tol) << what;
+    EXPECT_LE(std::abs(p(0) * u(0)), tol * std::max(1.0, p(0) + std::abs(u(0)))) << what;
+    if (u.tail<2>().norm() > tol) {  // sliding: on the cone's edge, against the slip
+      EXPECT_NEAR(p.tail<2>().norm(), bl.mu * p(0), tol) << what;
+      EXPECT_LE(p.tail<2>().dot(u.tail<2>()), tol * std::max(1.0, p.norm())) << what;
+    }
+  }
+}
+
+}  // namespace
+
+// Hanging at rest: U = 0, the normal impulses follow the lever rule.
+TEST_P(Nsgs, TwoRingsAtRest) {
+  TwoRings tr;
+  const MatrixXd W = tr.W();
+  const VectorXd b = tr.b(Eigen::Matrix<double, 6, 1>::Zero());
+  std::vector<ProblemBlock> blocks{{BlockKind::Frictional, 0, 3, 0.3}, {BlockKind::Frictional, 3, 3, 0.3}};
+  VectorXd P = VectorXd::Zero(6);
+  FrictionContactSolver s;
+  SolverOptions o = opts();
+  o.tolerance = 1e-12;
+  o.max_iterations = 5000;
+  const SolverReport r = s.solve(W, b, blocks, o, P);
+  ASSERT_TRUE(r.converged) << r.residual;
+  std::printf("[ figures  ] %s two rings at rest (tol 1e-12): %d iterations\n", methodName(GetParam()),
+              r.iterations);
+  // |U| <= 1e-12 and the smallest eigenvalue of W (~1e-3) bound the error on P.
+  const double mgh = tr.m * tr.g * tr.h;
+  EXPECT_NEAR(P(0), mgh * (tr.a - tr.zc) / (2 * tr.a), 1e-9);
+  EXPECT_NEAR(P(3), mgh * (tr.zc + tr.a) / (2 * tr.a), 1e-9);
+  EXPECT_LT((W * P + b).norm(), 1e-12);
+  EXPECT_EQ(r.iterations, r.sweeps + r.newton_iterations);
+}
+
+// Swinging and sliding along/around the axis: random velocities and mu.
+// Every method obeys Coulomb's law; Newton needs far fewer iterations.
+TEST_P(Nsgs, TwoRingsSwinging) {
+  TwoRings tr;
+  const MatrixXd W = tr.W();
+  std::mt19937 rng(21);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  FrictionContactSolver s;
+  int total = 0, maxIt = 0;
+  const int n = 200;
+  for (int k = 0; k < n; ++k) {
+    Eigen::Matrix<double, 6, 1> v0;
+    for (int i = 0; i < 6; ++i) v0(i) = 0.05 * g(rng);
+    const VectorXd b = tr.b(v0);
+    const double mu = 0.05 + 0.6 * u(rng);
+    std::vector<ProblemBlock> blocks{{BlockKind::Frictional, 0, 3, mu}, {BlockKind::Frictional, 3, 3, mu}};
+    VectorXd P = VectorXd::Zero(6);
+    SolverOptions o = opts();
+    o.tolerance = 1e-10;
+    o.max_iterations = 2000;
+    const SolverReport r = s.solve(W, b, blocks, o, P);
+    ASSERT_TRUE(P.allFinite());
+    ASSERT_TRUE(r.converged) << k << " residual " << r.residual;
+    expectCoulomb(W, b, P, blocks, 1e-9, "two rings");
+    total += r.iterations;
+    maxIt = std::max(maxIt, r.iterations);
+  }
+  std::printf("[ figures  ] %s two rings (tol 1e-10): iterations mean %.1f, max %d\n",
+              methodName(GetParam()), double(total) / n, maxIt);
+  if (GetParam() != SolverMethod::NSGS) {
+    EXPECT_LE(double(total) / n, 12.0);
+  }
+}
+
+namespace {
+
+// A four-bar linkage (3 moving links, z joint axes) with 4 ideal revolute
+// joints: 5 rows each (3 translations, 2 rotations about x and y) = 20 rows on
+// 18 DOF, 3 of them redundant. planar: M^-1 projected on (x, y, theta_z),
+// which makes 12 rows exactly zero.
+struct FourBar {
+  MatrixXd G = MatrixXd::Zero(20, 18), Minv = MatrixXd::Zero(18, 18);
+  explicit FourBar(bool planar) {
+    const Vector3d pin[4] = {{0, 0, 0}, {0.1, 0.25, 0}, {0.5, 0.3, 0}, {0.45, 0, 0}};
+    const double mass[3] = {0.4, 1.1, 0.7};
+    for (int k = 0; k < 3; ++k) {  // link k joins pin k and pin k+1
+      const Vector3d d = pin[k + 1] - pin[k];
+      const double len2 = d.squaredNorm();
+      const Vector3d J(0.002, mass[k] * len2 / 12, mass[k] * len2 / 12 + 0.002);
+      for (int i = 0; i < 3; ++i) {
+        Minv(6 * k + i, 6 * k + i) = (planar && i == 2) ? 0 : 1 / mass[k];
+        Minv(6 * k + 3 + i, 6 * k + 3 + i) = (planar && i < 2) ? 0 : 1 / J(i);
+      }
+    }
+    // Joint j at pin j between link j-1 (or ground) and link j (or ground).
+    for (int j = 0; j < 4; ++j) {
+      for (int side = 0; side < 2; ++side) {
+        const int link = side == 0 ? j - 1 : j;  // -1 or 3: ground
+        if (link < 0 || link > 2) continue;
+        const double sgn = side == 0 ? 1 : -1;
+        const Vector3d com = 0.5 * (pin[link] + pin[link + 1]);
+        const Vector3d r = pin[j] - com;
+        for (int i = 0; i < 3; ++i) {
+          const Vector3d e = Vector3d::Unit(i);
+          G.block<1, 3>(5 * j + i, 6 * link) = sgn * e.transpose();
+          G.block<1, 3>(5 * j + i, 6 * link + 3) = sgn * r.cross(e).transpose();
+        }
+        for (int i = 0; i < 2; ++i)
+          G.block<1, 3>(5 * j + 3 + i, 6 * link + 3) = sgn * Vector3d::Unit(i).transpose();
+      }
+    }
+  }
+};
+
+}  // namespace
+
+// All equalities in one block: exact in one sweep, zero rows keep P = 0.
+TEST_P(Nsgs, FourBarAllBilateralInOneIteration) {
+  std::mt19937 rng(31);
+  std::normal_distribution<double> g(0, 1);
+  for (bool planar : {false, true}) {
+    const FourBar fb(planar);
+    const MatrixXd W = fb.G * fb.Minv * fb.G.transpose();
+    std::vector<ProblemBlock> blocks;
+    for (int j = 0; j < 4; ++j) blocks.push_back({BlockKind::Bilateral, 5 * j, 5, 0});
+    FrictionContactSolver s;
+    for (int k = 0; k < 10; ++k) {
+      VectorXd vfree(18);
+      for (int i = 0; i < 18; ++i) vfree(i) = g(rng);
+      const VectorXd b = fb.G * fb.Minv * fb.Minv.cwiseSign() * vfree;  // in the allowed directions
+      VectorXd P = VectorXd::Zero(20);
+      if (k % 2) {
+        for (int i = 0; i < 20; ++i) P(i) = g(rng);  // a wrong warm start
+      }
+      SolverOptions o = opts();
+      o.tolerance = 1e-12;
+      const SolverReport r = s.solve(W, b, blocks, o, P);
+      ASSERT_TRUE(P.allFinite());
+      EXPECT_TRUE(r.converged) << "planar " << planar << " residual " << r.residual;
+      EXPECT_EQ(r.iterations, 1) << "planar " << planar;
+      EXPECT_LT((W * P + b).norm(), 1e-12 * std::max(1.0, b.norm()));
+      for (int i = 0; i < 20; ++i) {
+        if (W(i, i) == 0) {
+          EXPECT_EQ(P(i), 0.0) << "zero row " << i;
+        }
+      }
+    }
+  }
+}
+
+// Random strongly hyperstatic problems (DOF = m / 2) at tolerance 1e-10:
+// many need more than 200 NSGS sweeps; Newton (and Auto) solve them, and
+// Auto is never worse than NSGS alone.
+TEST(Newton, HardHyperstaticProblems) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  FrictionContactSolver s;
+  int hard = 0, newtonOnHard = 0, autoOnHard = 0, autoAll = 0;
+  int nsgsIts = 0, newtonIts = 0;
+  const int n = 100;
+  for (int k = 0; k < n; ++k) {
+    const int nc = 2 + k % 19;
+    std::vector<ProblemBlock> blocks;
+    int m = 0;
+    for (int i = 0; i < nc; ++i) {
+      blocks.push_back({BlockKind::Frictional, m, 3, 0.1 + 0.9 * u(rng)});
+      m += 3;
+    }
+    const int ndof = std::max(1, m / 2);
+    MatrixXd G(m, ndof), A(ndof, ndof);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < ndof; ++j) G(i, j) = g(rng);
+    for (int i = 0; i < ndof; ++i)
+      for (int j = 0; j < ndof; ++j) A(i, j) = g(rng);
+    const MatrixXd M = A * A.transpose() + ndof * MatrixXd::Identity(ndof, ndof);
+    const MatrixXd W = G * M.ldlt().solve(G.transpose());
+    VectorXd vfree(ndof);
+    for (int j = 0; j < ndof; ++j) vfree(j) = g(rng);
+    const VectorXd b = G * vfree;
+    SolverOptions o;
+    o.tolerance = 1e-10;
+    o.max_iterations = 200;
+    SolverReport r[3];
+    VectorXd P[3];
+    const SolverMethod methods[3] = {SolverMethod::NSGS, SolverMethod::Newton, SolverMethod::Auto};
+    for (int i = 0; i < 3; ++i) {
+      o.method = methods[i];
+      P[i] = VectorXd::Zero(m);
+      r[i] = s.solve(W, b, blocks, o, P[i]);
+      ASSERT_TRUE(P[i].allFinite()) << k;
+      EXPECT_NEAR(solverError(W, b, P[i], blocks), r[i].residual, 1e-12) << k;
+      EXPECT_EQ(r[i].iterations, r[i].sweeps + r[i].newton_iterations);
+    }
+    EXPECT_LE(r[2].residual, std::max(o.tolerance, r[0].residual)) << k;  // never worse
+    autoAll += r[2].converged;
+    if (!r[0].converged) {
+      ++hard;
+      newtonOnHard += r[1].converged;
+      autoOnHard += r[2].converged;
+    }
+    if (r[0].converged && r[1].converged) {
+      nsgsIts += r[0].iterations;
+      newtonIts += r[1].iterations;
+    }
+  }
+  std::printf("[ figures  ] %d random hyperstatic problems (tol 1e-10): %d need > 200 NSGS sweeps; "
+              "Newton solves %d of them, Auto %d; Auto solves %d/%d; on the rest, iterations "
+              "NSGS %d vs Newton %d\n",
+              n, hard, newtonOnHard, autoOnHard, autoAll, n, nsgsIts, newtonIts);
+  EXPECT_GE(hard, 5);
+  EXPECT_GE(newtonOnHard, hard - hard / 8);  // at most 1 in 8 left to NSGS
+  EXPECT_GE(autoOnHard, hard - hard / 8);
+  EXPECT_LT(newtonIts * 4, nsgsIts);
 }

@@ -689,7 +689,9 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_LT((s.gravity - Vec3(1, 2, 3)).norm(), kTight);
   set("dt", "0.1");  // the upper bound is allowed
   EXPECT_DOUBLE_EQ(s.dt, 0.1);
-  EXPECT_EQ(settingKeys().size(), 10u);
+  set("activation_margin", "1e-3");
+  EXPECT_DOUBLE_EQ(s.activation_margin, 1e-3);
+  EXPECT_EQ(settingKeys().size(), 11u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {

@@ -6,7 +6,10 @@
 //     coefficient mu (equivalently the SOCCP K* ∋ U + mu|U_T| e_N  _|_  P ∈ K).
 // b already holds the restitution term of the Newton impact law.
 // Solved by nonsmooth Gauss-Seidel (NSGS) over the blocks with an exact local
-// solver per block, warm-started from the P passed in.
+// solver per block, warm-started from the P passed in; all Bilateral rows are
+// assembled into one equality block solved exactly in each sweep. A global
+// semismooth Newton on the Alart-Curnier function of all blocks takes over when
+// NSGS converges slowly (SolverMethod::Auto) and falls back to NSGS if it fails.
 #pragma once
 
 #include <vector>
@@ -24,15 +27,24 @@ struct ProblemBlock {
   double mu = 0;  // Frictional only
 };
 
+// Auto: NSGS, switching to the global Newton after one sweep on small problems
+// or when the measured NSGS rate predicts many more sweeps; NSGS: sweeps only;
+// Newton: one NSGS sweep (cleans the warm start), then Newton. Newton falls back
+// to NSGS from the best iterate if it fails, so Auto/Newton end no worse than NSGS.
+enum class SolverMethod { Auto, NSGS, Newton };
+
 struct SolverOptions {
   double tolerance = 1e-8;   // on the normalised error (see solverError)
-  int max_iterations = 200;  // NSGS sweeps
+  int max_iterations = 200;  // bounds the NSGS sweeps, and separately the Newton iterations
+  SolverMethod method = SolverMethod::Auto;
 };
 
 struct SolverReport {
-  int iterations = 0;
-  double residual = 0;  // solverError at exit
+  int iterations = 0;         // sweeps + newton_iterations
+  double residual = 0;        // solverError at exit
   bool converged = false;
+  int sweeps = 0;             // NSGS sweeps
+  int newton_iterations = 0;  // global Newton iterations (each: one m x m LU)
 };
 
 // Siconos-style error: sqrt(sum over blocks of |P - proj_K(P - Uhat)|^2
@@ -47,17 +59,27 @@ double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
 class FrictionContactSolver {
  public:
   // W: m x m symmetric positive semidefinite Delassus operator (only the top-left
-  // m x m part of the matrices passed is read). P: in = warm start, out = solution.
+  // m x m part of the matrices passed is read). P: in = warm start, out = solution
+  // (the best iterate found if not converged).
   SolverReport solve(const Eigen::Ref<const Eigen::MatrixXd>& W,
                      const Eigen::Ref<const Eigen::VectorXd>& b,
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
                      Eigen::Ref<Eigen::VectorXd> P);
 
  private:
-  Eigen::VectorXd U_;      // running local velocities
-  Eigen::MatrixXd blockInv_;  // per-bilateral-block inverses (packed), reserved
-  int maxRows_ = 0;           // largest m seen (workspace size)
-  int maxBilateral_ = 0;      // largest bilateral block count seen
+  // Workspace, grown to the largest problem seen, never shrunk.
+  int maxRows_ = 0;            // capacity in rows
+  int maxEq_ = 0;              // capacity in equality rows
+  Eigen::VectorXd U_, Pbest_;  // running local velocities; best iterate
+  Eigen::MatrixXd eqL_;        // Cholesky factor of the assembled equality block
+  Eigen::VectorXd eqRhs_;
+  std::vector<int> eqRows_;    // rows of the equality block (W order)
+  std::vector<int> eqPerm_;    // its diagonal pivoting order
+  int eqRank_ = 0;
+  Eigen::MatrixXd J_;          // Newton: Jacobian, LU in place
+  Eigen::VectorXd phi_, d_, Wd_, Pt_, Ut_, phiT_, rho_;
+  std::vector<int> piv_;
+  std::vector<char> zeroRow_;  // W(i, i) negligible: P_i = 0
 };
 
 // The exact local problem of one frictional contact:

@@ -431,7 +431,10 @@ double Simulator::contactTangentialForce(int pair) const { return ws_->pair_ft[p
 
 double Simulator::constraintViolation() const {
   double bil = 0;
+  // A query must not change the trajectory: keep the ring-angle hints of the step.
+  ws_->phi_saved = ws_->phi_hint;
   const double pen = measureViolation(model_, state_, commands_, *ws_, &bil);
+  ws_->phi_hint = ws_->phi_saved;
   ws_->blocks.clear();
   ws_->rows = 0;
   return std::max(pen, bil);

@@ -75,6 +75,7 @@ class StepWorkspace {
   std::vector<int> joint_row_base;     // first bilateral warm slot of each joint
   std::vector<int> actuator_row_base;  // of each prescribed actuator
   std::vector<double> phi_hint;        // 2 per clearance joint
+  std::vector<double> phi_saved;       // copy kept across const queries
 
   // Reports of the last step
   std::vector<ContactReport> reports;

@@ -1,0 +1,122 @@
+// One headless run with failure watch and figures (see run_case.hpp).
+#include "run_case.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <stdexcept>
+
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
+
+namespace nscd::perf {
+
+CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
+  CaseMetrics r;
+  for (const ClearanceJoint& cj : model.clearance_joints)
+    r.clearance_min = r.clearance_min == 0 ? cj.radial : std::min(r.clearance_min, cj.radial);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    Simulator sim(model);
+    const double h = sim.model().settings.dt;
+    const long steps = std::max(0L, static_cast<long>(std::llround(opts.duration / h)));
+    r.energy_initial = sim.energy().total();
+    double e_prev = r.energy_initial;
+    long iters_sum = 0;
+    for (long k = 1; k <= steps; ++k) {
+      const StepStatus st = sim.step();
+      const StepStats& s = sim.stats();
+      r.steps = k;
+      iters_sum += s.iterations;
+      r.iters_max = std::max(r.iters_max, s.iterations);
+      if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
+      if (st == StepStatus::NonFinite) {
+        r.status = "nonfinite";
+        break;
+      }
+      if (st == StepStatus::NotConverged) {
+        ++r.unconverged_steps;
+        r.unconverged_residual_max = std::max(r.unconverged_residual_max, s.residual);
+      }
+      r.max_penetration = std::max(r.max_penetration, s.max_penetration);
+      if (opts.measure_violation)
+        r.max_violation = std::max(r.max_violation, sim.constraintViolation());
+      const EnergyReport en = sim.energy();
+      const double e = en.total();
+      if (!std::isfinite(e)) {
+        r.status = "nonfinite";
+        break;
+      }
+      r.energy_gain_max = std::max(r.energy_gain_max, e - r.energy_initial);
+      r.energy_step_gain_max = std::max(r.energy_step_gain_max, e - e_prev);
+      r.kinetic_peak = std::max(r.kinetic_peak, en.kinetic);
+      e_prev = e;
+    }
+    r.sim_time = sim.state().t;
+    r.energy_final = sim.energy().total();
+    r.iters_mean = r.steps > 0 ? static_cast<double>(iters_sum) / r.steps : 0.0;
+  } catch (const std::exception& ex) {
+    r.status = std::string("error: ") + ex.what();
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+namespace {
+
+double number(const std::string& key, const std::string& v) {
+  size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != v.size() || !std::isfinite(x))
+    throw std::invalid_argument("parameter '" + key + "': '" + v + "' is not a finite number");
+  return x;
+}
+
+}  // namespace
+
+const std::vector<std::string>& modelParamKeys() {
+  static const std::vector<std::string> keys = {"radial", "mu", "e", "mass_scale"};
+  return keys;
+}
+
+void applyParam(Model& model, const std::string& key, const std::string& value) {
+  if (key == "radial") {
+    const double c = number(key, value);
+    if (c <= 0) throw std::invalid_argument("parameter 'radial' must be > 0");
+    if (model.clearance_joints.empty())
+      throw std::invalid_argument("parameter 'radial': the scene has no clearance joint");
+    // Bumps sit at 1.5 (r + c) unless the scene placed them: keep them clear of the pin.
+    for (ClearanceJoint& cj : model.clearance_joints) {
+      const double old_default = 1.5 * (cj.radius + cj.radial);
+      if (std::abs(cj.bump_at - old_default) <= 1e-12 * old_default) cj.bump_at = 1.5 * (cj.radius + c);
+      cj.radial = c;
+    }
+  } else if (key == "mu" || key == "e") {
+    const double x = number(key, value);
+    if (x < 0 || (key == "e" && x > 1))
+      throw std::invalid_argument("parameter '" + key + "' out of range");
+    for (ClearanceJoint& cj : model.clearance_joints) (key == "mu" ? cj.mu : cj.e) = x;
+    for (ContactPair& cp : model.contacts) (key == "mu" ? cp.mu : cp.e) = x;
+  } else if (key == "mass_scale") {
+    const double s = number(key, value);
+    if (s <= 0) throw std::invalid_argument("parameter 'mass_scale' must be > 0");
+    for (Body& b : model.bodies) {
+      b.mass *= s;
+      b.inertia *= s;
+    }
+  } else {
+    try {
+      applySetting(model.settings, SettingOverride{key, value, "--param"});
+    } catch (const SceneError& e) {
+      throw std::invalid_argument(e.what());
+    }
+  }
+}
+
+}  // namespace nscd::perf

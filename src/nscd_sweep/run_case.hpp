@@ -1,0 +1,54 @@
+// One headless run of a model for the performance tools (sweep, stress,
+// work-precision): steps it, watches for failure and collects the figures.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nscd_sim/model.hpp"
+
+namespace nscd::perf {
+
+struct CaseOptions {
+  double duration = 0.1;          // simulated time, s (rounded to whole steps)
+  // Call Simulator::constraintViolation() after every step. Off by default: at the
+  // time of writing that const query changes the following steps (see
+  // docs/performance.md), so it is an opt-in cross-check.
+  bool measure_violation = false;
+};
+
+struct CaseMetrics {
+  std::string status = "ok";  // ok | nonfinite | error: <message>
+  long steps = 0;             // steps done
+  double sim_time = 0;
+  double wall_s = 0;
+  double iters_mean = 0;
+  int iters_max = 0;
+  double residual_max = 0;
+  long unconverged_steps = 0;
+  double unconverged_residual_max = 0;  // worst residual among unconverged steps
+  double max_penetration = 0;  // max over steps of StepStats::max_penetration, m
+  double max_violation = 0;    // max of Simulator::constraintViolation(), m (if measured)
+  double clearance_min = 0;    // smallest radial clearance of the model, m (0: none)
+  double energy_initial = 0;
+  double energy_final = 0;
+  double energy_gain_max = 0;  // max over steps of E(t) - E(0), J
+  double energy_step_gain_max = 0;  // max over steps of E(k+1) - E(k), J
+  double kinetic_peak = 0;     // max over steps of the kinetic energy, J
+};
+
+// Runs a copy of `model` for opts.duration; never throws (errors go to status).
+CaseMetrics runCase(const Model& model, const CaseOptions& opts);
+
+// Applies one sweep parameter to a loaded model. Keys: any settings key
+// (dt, tolerance, projection, ...), and the model keys
+//   radial  radial clearance of every clearance joint, m
+//   mu, e   friction / restitution of every clearance joint and contact pair
+//   mass_scale  multiplies every body's mass and inertia
+// Throws std::invalid_argument (unknown key, bad value).
+void applyParam(Model& model, const std::string& key, const std::string& value);
+
+// The model keys applyParam knows besides the settings keys.
+const std::vector<std::string>& modelParamKeys();
+
+}  // namespace nscd::perf
