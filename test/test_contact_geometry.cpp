@@ -120,13 +120,13 @@ TEST(ContactGeometry, SupportedPairs) {
   using T = ShapeType;
   const T yes[][2] = {{T::Sphere, T::Plane},  {T::Sphere, T::Sphere},   {T::Sphere, T::Box},
                       {T::Sphere, T::Capsule}, {T::Capsule, T::Plane},  {T::Box, T::Plane},
-                      {T::Capsule, T::Capsule}, {T::Cylinder, T::Plane}};
+                      {T::Capsule, T::Capsule}, {T::Cylinder, T::Plane}, {T::Capsule, T::Box}};
   for (auto& p : yes) {
     EXPECT_TRUE(shapePairSupported(p[0], p[1]));
     EXPECT_TRUE(shapePairSupported(p[1], p[0]));
   }
   const T no[][2] = {{T::Plane, T::Plane},     {T::Box, T::Box},         {T::Cylinder, T::Cylinder},
-                     {T::Sphere, T::Cylinder}, {T::Capsule, T::Box},     {T::Capsule, T::Cylinder},
+                     {T::Sphere, T::Cylinder}, {T::Capsule, T::Cylinder},
                      {T::Cylinder, T::Box}};
   for (auto& p : no) {
     EXPECT_FALSE(shapePairSupported(p[0], p[1]));
@@ -440,6 +440,74 @@ TEST(ContactGeometry, CapsuleCapsuleCrossedAndParallel) {
   EXPECT_NEAR(out[0].gap, -2 * r, kTol);
 }
 
+// Capsule vs box: a pin lying along a box face (axes parallel, as in a planar
+// mechanism), a pin longer than the face (ends clamped to the face), a pin end
+// over an edge (rounded normal), and a tilted pin (ends as balls, brute force).
+TEST(ContactGeometry, CapsuleBox) {
+  ContactPoint out[kMaxPointsPerPair];
+  const Shape bx = box(Vec3(0.02, 0.01, 0.03));  // face x = +0.02, z in [-0.03, 0.03]
+  const double r = 0.005, g = 0.001;
+  const Quat along_z = Quat::Identity();
+  // Parallel to the +x face, inside its z extent: two points at the ends.
+  ASSERT_EQ(run(capsule(r, 0.04), at(Vec3(0.02 + r + g, 0.003, 0.0), along_z), bx, Pose{}, 0.01, out), 2);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(out[i].gap, g, kTol);
+    expectVecNear(out[i].normal, Vec3::UnitX(), kTol);
+    EXPECT_NEAR(out[i].point_b.x(), 0.02, kTol);
+    EXPECT_NEAR(std::abs(out[i].point_b.z()), 0.02, kTol);
+  }
+  EXPECT_NE(out[0].feature, out[1].feature);
+  // Longer than the face: the ends are clamped to the box's z extent, the gap
+  // is still the face distance (the ends themselves would see the edges).
+  ASSERT_EQ(run(capsule(r, 0.2), at(Vec3(0.02 + r + g, 0.0, 0.01), along_z), bx, Pose{}, 0.01, out), 2);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(out[i].gap, g, kTol);
+    expectVecNear(out[i].normal, Vec3::UnitX(), kTol);
+    EXPECT_NEAR(std::abs(out[i].point_b.z()), 0.03, kTol);
+  }
+  // Over the edge x = 0.02, y = 0.01 (diagonally outside): rounded normal.
+  const Vec3 c(0.02 + 0.003, 0.01 + 0.004, 0.0);
+  ASSERT_EQ(run(capsule(r, 0.02), at(c, along_z), bx, Pose{}, 0.01, out), 2);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(out[i].gap, 0.005 - r, kTol);
+    expectVecNear(out[i].normal, Vec3(0.6, 0.8, 0), 1e-12);
+  }
+  // Tilted and rotated: each point is the ball-box distance of a segment end,
+  // checked by brute force over the box surface (samples of each face).
+  std::mt19937_64 rng(21);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Pose pb = at(Vec3(uni(rng, -0.01, 0.01), 0, 0), randQuat(rng));
+    const Pose pa = at(pb.apply(Vec3(0.045, uni(rng, -0.01, 0.01), 0)), randQuat(rng));
+    const Shape cap = capsule(r, 0.03);
+    const int n = run(cap, pa, bx, pb, 1.0, out);
+    ASSERT_EQ(n, 2);
+    for (int i = 0; i < n; ++i) {
+      const Vec3 end = pa.p + (out[i].feature == 0 ? -0.015 : 0.015) * pa.rotate(Vec3::UnitZ());
+      const Vec3 l = pb.q.conjugate() * (end - pb.p);
+      double best = 1e9;
+      const int S = 60;
+      for (int ax = 0; ax < 3; ++ax)
+        for (int sg = -1; sg <= 1; sg += 2)
+          for (int i1 = 0; i1 <= S; ++i1)
+            for (int i2 = 0; i2 <= S; ++i2) {
+              Vec3 q;
+              q[ax] = sg * bx.half_extents[ax];
+              const int a1 = (ax + 1) % 3, a2 = (ax + 2) % 3;
+              q[a1] = bx.half_extents[a1] * (2.0 * i1 / S - 1);
+              q[a2] = bx.half_extents[a2] * (2.0 * i2 / S - 1);
+              best = std::min(best, (l - q).norm());
+            }
+      if (std::abs(pa.rotate(Vec3::UnitZ()).dot(pb.rotate(Vec3::UnitZ()))) < 0.999 &&
+          std::abs(pa.rotate(Vec3::UnitZ()).dot(pb.rotate(Vec3::UnitX()))) < 0.999 &&
+          std::abs(pa.rotate(Vec3::UnitZ()).dot(pb.rotate(Vec3::UnitY()))) < 0.999) {
+        // Grid spacing 1/30 of a half extent bounds the brute-force error.
+        EXPECT_NEAR(out[i].gap, best - r, 0.03 * 0.02 / 30 + 1e-12);
+        EXPECT_LE(out[i].gap, best - r + 1e-12);
+      }
+    }
+  }
+}
+
 TEST(ContactGeometry, CylinderPlane) {
   const double r = 0.03, len = 0.1;
   ContactPoint out[kMaxPointsPerPair];
@@ -504,6 +572,7 @@ static std::vector<PairCase> randomCases(std::mt19937_64& rng, int per_pair) {
     cases.push_back({sphere(0.05), box(Vec3(0.05, 0.1, 0.07)), pose(0.15), q});
     cases.push_back({sphere(0.05), capsule(0.03, 0.2), pose(0.15), q});
     cases.push_back({capsule(0.02, 0.15), capsule(0.03, 0.2), pose(0.1), q});
+    cases.push_back({capsule(0.02, 0.15), box(Vec3(0.05, 0.1, 0.07)), pose(0.15), q});
   }
   return cases;
 }
@@ -616,7 +685,7 @@ TEST(ContactGeometry, NormalAndPointsMatchFiniteDifferences) {
     }
   }
   EXPECT_GT(checked, 500);
-  for (int i = 0; i < 8; ++i)  // every pair type was exercised
+  for (int i = 0; i < 9; ++i)  // every pair type was exercised
     EXPECT_GT(per_pair[int(cases[i].a.type)][int(cases[i].b.type)], 20) << "case " << i;
   std::printf("collide FD: %d checks, max |error| / second-order bound = %.3g (|dt| = %.0e m)\n",
               checked, worst, h);

@@ -28,12 +28,12 @@ constexpr double kEqDrop = 1e-11;       // equality pivots below this * max diag
 // Global Newton (see solve()).
 constexpr int kNewtonMaxRows = 400;      // dense m x m LU beyond this costs more than sweeps
 constexpr int kNewtonSmallRows = 24;     // Auto: Newton after one sweep up to this size
-constexpr int kSwitchSweeps = 3;         // Auto: first look at the NSGS rate (then 6, 12, ...)
+constexpr int kSwitchSweeps = 1;         // Auto: looks at the NSGS rate after 1, 2, 4, 8, ... sweeps
 constexpr double kNewtonCostIterations = 6;  // Auto: expected Newton iterations...
 constexpr double kLuRowsPerSweep = 20;   // ...each costing (1 + m / this) sweeps
 constexpr int kNewtonMaxIterations = 60;  // per attempt
 constexpr int kNewtonAttempts = 4;       // Newton runs per solve, NSGS sweeps in between
-constexpr int kNewtonStall = 12;         // iterations without halving the error: give up
+constexpr int kNewtonStall = 25;         // iterations without halving the error: give up
 constexpr int kNonMonotone = 5;          // merit history of the line search
 constexpr int kLineSearchSteps = 30;
 constexpr double kNewtonDelta0 = 1e-10;  // Jacobian regularisation, relative to diag(W)
@@ -609,7 +609,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     if (ok && !rep.converged) tryNewton();
   } else if (newtonAllowed) {
     // Switch when the observed NSGS rate predicts more sweeps than Newton costs
-    // (checked at kSwitchSweeps, then at doubling sweep counts).
+    // (checked after kSwitchSweeps, then at doubling sweep counts).
     const double newtonCost = kNewtonCostIterations * (1 + m / kLuRowsPerSweep);
     int check = kSwitchSweeps;
     double errRef = err;

@@ -1,0 +1,262 @@
+#!/usr/bin/python3
+"""Figures and plots of the C-60 scenarios from nscd_run CSV files.
+
+  c60_plot.py trip   CSV PNG [--json OUT]   tripping force vs probe travel, opening time
+  c60_plot.py bench  CSV PNG [--json OUT]   contact force vs table travel, hysteresis, polarisation
+  c60_plot.py handle CSV PNG [--json OUT]   handle command/angle and contact gap vs time
+  c60_plot.py rest   CSV     [--json OUT]   drift and force balance of the latched ON state
+
+Prints the key figures as text and, with --json, writes them to a file.
+"""
+import argparse
+import json
+import math
+import sys
+
+import numpy as np
+
+JOINTS = ['J1', 'J2', 'J3', 'J4', 'J5', 'J6', 'J7', 'S3']
+BEARING = {'J1': 'handle', 'J2': 'plate', 'J3': 'hook', 'J4': 'trip_bar', 'J5': 'handle', 'J6': 'hook',
+           'J7': 'moving_contact', 'S3': None}
+BODIES = ['handle', 'rod', 'hook', 'plate', 'moving_contact', 'trip_bar', 'needle']
+
+
+def load(path):
+    d = np.genfromtxt(path, delimiter=',', names=True, deletechars='')
+    if d.ndim == 0 or len(d) < 2:
+        sys.exit('%s: no data' % path)
+    return d
+
+
+def yaw(d, b):
+    qw, qx, qy, qz = (d[b + '.q' + c] for c in 'wxyz')
+    return np.arctan2(2 * (qw * qz + qx * qy), 1 - 2 * (qy * qy + qz * qz))
+
+
+def polarisation(d, i):
+    """Per joint: eccentricity / c_r and its direction in the world frame (deg) at row i."""
+    out = {}
+    for j in JOINTS:
+        if j + '.ecc' not in d.dtype.names:
+            continue
+        ang = d[j + '.ecc_angle'][i] + (yaw(d, BEARING[j])[i] if BEARING[j] else 0.0)
+        out[j] = {'ecc': round(float(d[j + '.ecc'][i]), 3),
+                  'dir_deg': round(float((math.degrees(ang) + 180) % 360 - 180), 1),
+                  'fn': round(float(d[j + '.fn'][i]), 3)}
+    return out
+
+
+def plt_module():
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def first_time(t, mask):
+    idx = np.nonzero(mask)[0]
+    return float(t[idx[0]]) if len(idx) else None
+
+
+# --------------------------------------------------------------------------- trip
+def trip(d, png):
+    t = d['t']
+    x = d['probe.cmd']               # probe travel from its start, m
+    F = d['probe.effort']            # force the driver needs, N (pushing the bar: > 0)
+    touch = first_time(t, d['TRIP.fn'] > 1e-3)
+    # The probe hits the bar at 0.2 m/s: the first steps carry an impact impulse. The
+    # tripping force proper is the quasi-static push after 0.02 mm of contact travel.
+    x_touch = float(np.interp(touch, t, x)) if touch else 0.0
+    qs = x > x_touch + 2e-5
+    imp = (x >= x_touch) & ~qs
+    k_imp = int(np.nonzero(imp)[0][np.argmax(F[imp])]) if imp.any() else int(np.argmax(F))
+    k = int(np.nonzero(qs)[0][np.argmax(F[qs])]) if qs.any() else k_imp
+    # Opening: the moving contact leaves the fixed contact for good.
+    gap = d['C7.gap']
+    closed = gap < 1e-6
+    t_open = None
+    if closed.any():
+        last_closed = np.nonzero(closed)[0][-1]
+        if last_closed < len(t) - 1:
+            t_open = float(t[last_closed + 1])
+    t_release = None
+    c4 = d['C4.gap']
+    rel = np.nonzero(c4 > 20e-6)[0]
+    if len(rel):
+        t_release = float(t[rel[0]])
+    res = {'probe_touch_s': touch, 'probe_touch_travel_mm': round(1e3 * x_touch, 4),
+           'impact_peak_N': round(float(F[k_imp]), 3), 'peak_force_N': round(float(F[k]), 3),
+           'peak_at_travel_mm': round(float(1e3 * x[k]), 4), 'peak_at_s': float(t[k]),
+           'latch_release_s': t_release, 'c7_open_s': t_open,
+           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3)}
+    if png:
+        plt = plt_module()
+        fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+        m = t >= (touch if touch else 0) - 2e-4
+        ax[0].plot(1e3 * x[m], F[m], 'C0')
+        ax[0].plot(1e3 * x[k], F[k], 'o', color='C3', label='peak (quasi-static) %.2f N' % F[k])
+        ax[0].plot(1e3 * x[k_imp], F[k_imp], 'x', color='k', label='first-contact impact %.2f N' % F[k_imp])
+        ax[0].set_xlabel('probe travel [mm]')
+        ax[0].set_ylabel('tripping force (probe) [N]')
+        ax[0].set_title('C-60 trip: force vs probe travel (0.2 m/s)')
+        ax[0].grid(alpha=0.3)
+        ax[0].legend()
+        ax[1].plot(1e3 * t, 1e3 * gap, 'C1', label='C7 gap (moving-fixed contact)')
+        ax[1].plot(1e3 * t, 1e3 * d['C4.gap'], 'C2', label='C4 gap (latch)')
+        ax[1].plot(1e3 * t, 1e3 * x, 'C0--', label='probe travel')
+        if t_open:
+            ax[1].axvline(1e3 * t_open, color='C3', lw=0.8)
+            ax[1].text(1e3 * t_open, ax[1].get_ylim()[1] * 0.9, ' C7 opens %.2f ms' % (1e3 * t_open), color='C3')
+        ax[1].set_xlabel('time [ms]')
+        ax[1].set_ylabel('[mm]')
+        ax[1].set_title('latch release and contact opening')
+        ax[1].grid(alpha=0.3)
+        ax[1].legend(loc='upper left', fontsize=8)
+        fig.tight_layout()
+        fig.savefig(png, dpi=110)
+    return res
+
+
+# --------------------------------------------------------------------------- bench
+def bench(d, png):
+    t = d['t']
+    x = d['table.cmd']
+    F = d['table.effort']
+    xmax = x.max()
+    dx = np.gradient(x, t)
+    fwd = dx > 1e-6
+    bwd = dx < -1e-6
+    # Static equilibrium at the end of the forward stroke: the hold at full travel.
+    hold = (x > xmax - 1e-9) & ~fwd & ~bwd
+    th = t[hold]
+    late = hold & (t >= th[0] + 0.5 * (th[-1] - th[0])) if len(th) else hold
+    F_eq = float(np.mean(F[late]))
+    # Hysteresis: forward minus backward force at equal travel (0.2 .. 1.8 mm).
+    grid = np.linspace(0.1 * xmax, 0.9 * xmax, 41)
+    ff = np.interp(grid, x[fwd], F[fwd])
+    order = np.argsort(x[bwd])
+    fb = np.interp(grid, x[bwd][order], F[bwd][order])
+    width = ff - fb
+    i_eq = np.nonzero(late)[0][-1]
+    i0 = np.nonzero(t < (t[fwd][0] if fwd.any() else t[-1]))[0][-1]
+    res = {'equilibrium_force_N': round(F_eq, 3), 'paper_measured_N': 15.28, 'paper_simulated_N': 14.96,
+           'rel_error_vs_measured_pct': round(100 * (F_eq - 15.28) / 15.28, 2),
+           'force_start_fwd_N': round(float(ff[0]), 3), 'force_end_fwd_N': round(float(np.interp(0.9 * xmax, x[fwd], F[fwd])), 3),
+           'hysteresis_mean_N': round(float(np.mean(width)), 4), 'hysteresis_max_N': round(float(np.max(np.abs(width))), 4),
+           'hysteresis_at_1mm_N': round(float(np.interp(0.5 * xmax, grid, width)), 4),
+           'stiffness_fwd_N_per_mm': round(float(np.polyfit(1e3 * grid, ff, 1)[0]), 4),
+           'polarisation_before': polarisation(d, i0), 'polarisation_at_2mm': polarisation(d, i_eq),
+           'polarisation_end': polarisation(d, len(t) - 1)}
+    if png:
+        plt = plt_module()
+        fig, ax = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={'width_ratios': [1.4, 1]})
+        ax[0].plot(1e3 * x[fwd], F[fwd], 'C3', label='forward (opening)')
+        ax[0].plot(1e3 * x[bwd], F[bwd], 'C0', label='backward (closing)')
+        ax[0].plot([1e3 * xmax], [F_eq], 'ks', label='static equilibrium %.2f N' % F_eq)
+        ax[0].plot([2.0], [15.28], 'r*', ms=10, label='paper: measured 15.28 N')
+        ax[0].plot([2.0], [14.96], 'b*', ms=10, label='paper: simulated 14.96 N')
+        on = x > 2e-5
+        lo = min(F[on].min(), 14.96) - 0.5
+        ax[0].set_ylim(lo, max(F[on].max(), 15.28) + 0.4)
+        ax[0].text(0.02, lo + 0.15, 'force jumps from 0 at 0 mm: the table takes over the C7 load', fontsize=7)
+        ax[0].set_xlabel('table travel [mm]')
+        ax[0].set_ylabel('contact force (table) [N]')
+        ax[0].set_title('C-60 contact-force bench (cf. paper Fig. 7)')
+        ax[0].grid(alpha=0.3)
+        ax[0].legend(fontsize=8, loc='lower right')
+        ax[1].plot(1e3 * grid, 1e3 * width, 'C2')
+        ax[1].set_xlabel('table travel [mm]')
+        ax[1].set_ylabel('forward - backward force [mN]')
+        ax[1].set_title('hysteresis (joint friction)')
+        ax[1].grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(png, dpi=110)
+        # Polarisation plot: eccentricity vectors of the joints at rest and at 2 mm.
+        fig, ax = plt.subplots(figsize=(5.2, 5))
+        th = np.linspace(0, 2 * np.pi, 100)
+        ax.plot(np.cos(th), np.sin(th), 'k', lw=0.5)
+        for i, (lab, mk) in enumerate([('polarisation_before', 'o'), ('polarisation_at_2mm', 'x')]):
+            for j, p in res[lab].items():
+                a = math.radians(p['dir_deg'])
+                ax.plot([0, p['ecc'] * math.cos(a)], [0, p['ecc'] * math.sin(a)], color='C%d' % JOINTS.index(j),
+                        marker=mk, lw=0.8, label=j if i == 0 else None)
+        ax.set_aspect('equal')
+        ax.set_title('joint polarisation: e/c_r, world frame\n(o before the bench, x at 2 mm)')
+        ax.legend(fontsize=7, loc='upper right')
+        fig.tight_layout()
+        fig.savefig(png.replace('.png', '_polarisation.png'), dpi=110)
+    return res
+
+
+# --------------------------------------------------------------------------- handle
+def handle(d, png):
+    t = d['t']
+    ang = yaw(d, 'handle')
+    ang = np.degrees(ang - ang[0])
+    gap = d['C7.gap']
+    res = {'handle_max_deg': round(float(ang.max()), 2), 'handle_end_deg': round(float(ang[-1]), 2),
+           'c7_open_s': first_time(t, gap > 1e-5), 'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
+           'c7_gap_max_mm': round(float(1e3 * gap.max()), 3),
+           'c4_gap_end_mm': round(float(1e3 * d['C4.gap'][-1]), 3),
+           'effort_max_Nm': round(float(np.abs(d['handle.effort']).max()), 4)}
+    if png:
+        plt = plt_module()
+        fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+        ax[0].plot(1e3 * t, np.degrees(d['handle.cmd']), 'k--', label='command')
+        ax[0].plot(1e3 * t, ang, 'C1', label='handle angle (from ON)')
+        for b, c in [('plate', 'C2'), ('moving_contact', 'C0'), ('hook', 'C4')]:
+            a = yaw(d, b)
+            ax[0].plot(1e3 * t, np.degrees(a - a[0]), c, lw=0.8, label=b)
+        ax[0].set_ylabel('[deg]')
+        ax[0].legend(fontsize=8)
+        ax[0].grid(alpha=0.3)
+        ax[0].set_title('C-60 handle ON -> OFF -> ON command')
+        ax[1].plot(1e3 * t, 1e3 * gap, 'C1', label='C7 gap')
+        ax[1].plot(1e3 * t, 1e3 * d['C4.gap'], 'C2', label='C4 gap (latch)')
+        ax[1].plot(1e3 * t, 1e3 * d['handle.effort'], 'C3', lw=0.8, label='handle torque [N mm]')
+        ax[1].set_xlabel('time [ms]')
+        ax[1].set_ylabel('[mm], [N mm]')
+        ax[1].legend(fontsize=8)
+        ax[1].grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(png, dpi=110)
+    return res
+
+
+# --------------------------------------------------------------------------- rest
+def rest(d, png):
+    t = d['t']
+    half = t >= 0.5 * t[-1]
+    i0 = np.nonzero(half)[0][0]
+    drift = {}
+    for b in BODIES:
+        a = yaw(d, b)
+        drift[b] = {'dyaw_urad': round(float(1e6 * (a[-1] - a[i0])), 3),
+                    'dxy_nm': round(float(1e9 * math.hypot(d[b + '.x'][-1] - d[b + '.x'][i0], d[b + '.y'][-1] - d[b + '.y'][i0])), 3),
+                    'vmax_mm_s': round(float(1e3 * np.max(np.hypot(d[b + '.vx'][half], d[b + '.vy'][half]))), 5)}
+    names = [n[:-3] for n in d.dtype.names if n.endswith('.fn')]
+    forces = {n: {'mean': round(float(np.mean(d[n + '.fn'][half])), 4),
+                  'spread': round(float(np.ptp(d[n + '.fn'][half])), 5)} for n in names}
+    gaps = {n[:-4]: round(float(1e6 * d[n][-1]), 4) for n in d.dtype.names if n.endswith('.gap')}
+    return {'window_s': [float(t[i0]), float(t[-1])], 'drift': drift, 'forces_N': forces, 'gaps_um': gaps,
+            'latched': bool(d['C4.gap'][-1] < 1e-6 and d['C7.gap'][-1] < 1e-6),
+            'polarisation': polarisation(d, len(t) - 1)}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('kind', choices=['trip', 'bench', 'handle', 'rest'])
+    ap.add_argument('csv')
+    ap.add_argument('png', nargs='?')
+    ap.add_argument('--json')
+    a = ap.parse_args()
+    d = load(a.csv)
+    res = {'trip': trip, 'bench': bench, 'handle': handle, 'rest': rest}[a.kind](d, a.png)
+    print(json.dumps(res, indent=1))
+    if a.json:
+        with open(a.json, 'w') as f:
+            json.dump(res, f, indent=1)
+
+
+if __name__ == '__main__':
+    main()
