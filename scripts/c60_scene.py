@@ -268,10 +268,10 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
     w('    <actuator name="probe" type="prescribed" link="probe" axis="-1 0 0"/>')
     if bench:
         w('    <actuator name="table" type="prescribed" link="table" axis="1 0 0"/>')
-    # [OWN] see docs/c60.md "Numerics": projection_tolerance is also the engine's contact
-    # activation threshold; 1e-7 m keeps loaded contacts active (1e-9 makes them chatter).
+    # [OWN] see docs/c60.md "Numerics": positions projected to 1 nm; contacts within 0.1 um
+    # stay active (activation_margin), else loaded contacts chatter.
     w('    <simulation dt="%.9g" theta="0.5" gravity="0 0 0" tolerance="1e-8" max_iterations="2000"'
-      ' projection="true" projection_tolerance="1e-7"/>' % dt)
+      ' projection="true" projection_tolerance="1e-9" activation_margin="1e-7"/>' % dt)
     w('  </nscd>')
     w('</robot>')
     return '\n'.join(out) + '\n'

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <cstring>
 #include <vector>
 
 #include "../src/nscd_sweep/csv_row.hpp"
@@ -99,7 +100,11 @@ TEST(StressShort, QueriesDoNotChangeTheTrajectory) {
     for (const nscd::BodyState& b : sim.state().bodies)
       for (int i = 0; i < 3; ++i) x[query].push_back(b.x[i]);
   }
-  EXPECT_EQ(x[0], x[1]) << "Simulator::constraintViolation() changed the following steps";
+  // Compare bits, not values: this case may end non-finite (a known stress failure,
+  // counted by nscd_stress), and a query must not change even that.
+  ASSERT_EQ(x[0].size(), x[1].size());
+  EXPECT_EQ(0, std::memcmp(x[0].data(), x[1].data(), x[0].size() * sizeof(double)))
+      << "Simulator::constraintViolation() changed the following steps";
 }
 
 TEST(StressShort, CasesCoverTheRequestedRanges) {

@@ -29,8 +29,9 @@ struct ProblemBlock {
 
 // Auto: NSGS, switching to the global Newton after one sweep on small problems
 // or when the measured NSGS rate predicts many more sweeps; NSGS: sweeps only;
-// Newton: one NSGS sweep (cleans the warm start), then Newton. Newton falls back
-// to NSGS from the best iterate if it fails, so Auto/Newton end no worse than NSGS.
+// Newton: one NSGS sweep (cleans the warm start), then Newton. A failed Newton is
+// discarded (NSGS resumes from where Newton started, with up to 3 more Newton
+// attempts between runs of sweeps), and NSGS keeps its full sweep budget.
 enum class SolverMethod { Auto, NSGS, Newton };
 
 struct SolverOptions {
@@ -60,7 +61,7 @@ class FrictionContactSolver {
  public:
   // W: m x m symmetric positive semidefinite Delassus operator (only the top-left
   // m x m part of the matrices passed is read). P: in = warm start, out = solution
-  // (the best iterate found if not converged).
+  // (if not converged: the NSGS iterate of lowest error).
   SolverReport solve(const Eigen::Ref<const Eigen::MatrixXd>& W,
                      const Eigen::Ref<const Eigen::VectorXd>& b,
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
@@ -70,7 +71,7 @@ class FrictionContactSolver {
   // Workspace, grown to the largest problem seen, never shrunk.
   int maxRows_ = 0;            // capacity in rows
   int maxEq_ = 0;              // capacity in equality rows
-  Eigen::VectorXd U_, Pbest_;  // running local velocities; best iterate
+  Eigen::VectorXd U_, Pbest_, Pstart_;  // running local velocities; best iterate; Newton start
   Eigen::MatrixXd eqL_;        // Cholesky factor of the assembled equality block
   Eigen::VectorXd eqRhs_;
   std::vector<int> eqRows_;    // rows of the equality block (W order)

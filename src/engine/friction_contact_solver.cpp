@@ -39,6 +39,7 @@ constexpr int kLineSearchSteps = 30;
 constexpr double kNewtonDelta0 = 1e-10;  // Jacobian regularisation, relative to diag(W)
 constexpr double kNewtonDeltaMax = 1e-1;
 constexpr double kNewtonShortStep = 0.25;  // accepted step length below this: more delta
+constexpr double kNewtonMaxStep = 1e4;     // |d| above this * impulse scale: refused
 
 int problemRows(const std::vector<ProblemBlock>& blocks) {
   int m = 0;
@@ -350,6 +351,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     maxRows_ = m;
     U_.resize(m);
     Pbest_.resize(m);
+    Pstart_.resize(m);
     phi_.resize(m);
     d_.resize(m);
     Wd_.resize(m);
@@ -424,7 +426,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     rep.converged = true;
     return rep;
   }
-  double bestAll = err;  // best iterate over NSGS and Newton
+  double bestAll = err;  // best NSGS iterate (returned if not converged)
   Pbest_.head(m) = P.head(m);
   const auto offerBest = [&] {
     if (err < bestAll) {
@@ -528,11 +530,16 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     const int ld = int(J_.rows());
     const int maxIt =
         std::min(kNewtonMaxIterations, options.max_iterations - rep.newton_iterations);
+    Pstart_.head(m) = P.head(m);
     refreshU();
     double f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, phi_.data());
     double hist[kNonMonotone];
     for (double& h : hist) h = f;
     double delta = kNewtonDelta0;
+    // Impulse scale of the problem: what stops each row alone.
+    double impulseScale = 0;
+    for (int i = 0; i < m; ++i)
+      if (!zeroRow[i]) impulseScale = std::max(impulseScale, std::abs(b(i)) / W(i, i));
     double progressErr = err;
     int noProgress = 0;
     for (int it = 0; it < maxIt; ++it) {
@@ -543,7 +550,11 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
       if (luFactor(J_.data(), ld, m, piv_.data())) {
         d_.head(m) = -phi_.head(m);
         luSolve(J_.data(), ld, m, piv_.data(), d_.data());
-        if (d_.head(m).allFinite()) {
+        // A huge step lies along a near-null direction of W (hyperstatic set,
+        // or b outside range(W) as in position projection): impulses that
+        // change nothing but round-off. Refused like a failed line search.
+        const double dMax = d_.head(m).cwiseAbs().maxCoeff();
+        if (dMax <= kNewtonMaxStep * std::max(P.head(m).cwiseAbs().maxCoeff(), impulseScale)) {
           Wd_.head(m).noalias() = Wm * d_.head(m);
           double fref = 0;
           for (double h : hist) fref = std::max(fref, h);
@@ -574,7 +585,6 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
       hist[0] = f;
       err = errorFromU(blocks, P.data(), U.data(), bnorm);
       if (!std::isfinite(err)) return false;
-      offerBest();
       if (err <= options.tolerance) {
         rep.converged = true;
         return true;
@@ -589,9 +599,11 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     return false;
   };
 
-  // Back to NSGS from the best iterate after a failed Newton.
-  const auto restartFromBest = [&] {
-    P.head(m) = Pbest_.head(m);
+  // Back to NSGS where Newton started after a failed Newton: its iterates may
+  // have a lower error yet huge impulses along near-null directions of W
+  // (problems without a solution), so a failure leaves the NSGS path as is.
+  const auto resumeNsgs = [&] {
+    P.head(m) = Pstart_.head(m);
     refreshU();
     err = errorFromU(blocks, P.data(), U.data(), bnorm);
     stallErr = err;
@@ -601,7 +613,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   int attempts = 0;
   const auto tryNewton = [&] {
     ++attempts;
-    if (!newton()) restartFromBest();
+    if (!newton()) resumeNsgs();
   };
   bool ok = true;
   if (newtonAllowed && (options.method == SolverMethod::Newton || m <= kNewtonSmallRows)) {

@@ -263,6 +263,13 @@ StepStatus Simulator::step() {
     opt.max_iterations = set.max_iterations;
     SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+    if (!ws.P.head(r).allFinite() && ws.W.topLeftCorner(r, r).allFinite() && ws.b.head(r).allFinite()) {
+      // Robustness: a non-finite answer from the Newton stage is never applied;
+      // solve again cold by plain NSGS.
+      ws.P.head(r).setZero();
+      opt.method = SolverMethod::NSGS;
+      rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+    }
     st.iterations = rep.iterations;
     st.residual = rep.residual;
     st.converged = rep.converged;
