@@ -39,7 +39,7 @@ constexpr int kLineSearchSteps = 30;
 constexpr double kNewtonDelta0 = 1e-10;  // Jacobian regularisation, relative to diag(W)
 constexpr double kNewtonDeltaMax = 1e-1;
 constexpr double kNewtonShortStep = 0.25;  // accepted step length below this: more delta
-constexpr double kNewtonMaxStep = 1e4;     // |d| above this * impulse scale: refused
+constexpr double kNewtonMaxImpulse = 1e3;  // iterates bounded by this * impulse scale
 
 int problemRows(const std::vector<ProblemBlock>& blocks) {
   int m = 0;
@@ -536,10 +536,15 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
     double hist[kNonMonotone];
     for (double& h : hist) h = f;
     double delta = kNewtonDelta0;
-    // Impulse scale of the problem: what stops each row alone.
-    double impulseScale = 0;
+    // Iterates are kept within kNewtonMaxImpulse times the impulse scale of
+    // the problem (what stops each row alone, or the start): on problems
+    // without a solution (jamming, b outside range(W) in position projection)
+    // the Alart-Curnier residual decreases towards infinity along near-null
+    // directions of W, with impulses that change nothing but round-off.
+    double impulseScale = P.head(m).cwiseAbs().maxCoeff();
     for (int i = 0; i < m; ++i)
       if (!zeroRow[i]) impulseScale = std::max(impulseScale, std::abs(b(i)) / W(i, i));
+    const double impulseCap = kNewtonMaxImpulse * impulseScale;
     double progressErr = err;
     int noProgress = 0;
     for (int it = 0; it < maxIt; ++it) {
@@ -550,16 +555,13 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
       if (luFactor(J_.data(), ld, m, piv_.data())) {
         d_.head(m) = -phi_.head(m);
         luSolve(J_.data(), ld, m, piv_.data(), d_.data());
-        // A huge step lies along a near-null direction of W (hyperstatic set,
-        // or b outside range(W) as in position projection): impulses that
-        // change nothing but round-off. Refused like a failed line search.
-        const double dMax = d_.head(m).cwiseAbs().maxCoeff();
-        if (dMax <= kNewtonMaxStep * std::max(P.head(m).cwiseAbs().maxCoeff(), impulseScale)) {
+        if (d_.head(m).allFinite()) {
           Wd_.head(m).noalias() = Wm * d_.head(m);
           double fref = 0;
           for (double h : hist) fref = std::max(fref, h);
           for (int ls = 0; ls < kLineSearchSteps; ++ls, t *= 0.5) {
             Pt_.head(m) = P.head(m) + t * d_.head(m);
+            if (Pt_.head(m).cwiseAbs().maxCoeff() > impulseCap) continue;
             Ut_.head(m) = U + t * Wd_.head(m);
             const double ft = acResidual(blocks, Pt_.data(), Ut_.data(), rho, zeroRow, phiT_.data());
             if (ft <= fref - 2e-4 * t * f) {
