@@ -8,11 +8,6 @@
 namespace nscd {
 namespace {
 
-const BodyState kGroundState{};
-
-const BodyState& bodyOrGround(const State& s, int body) {
-  return body == kGround ? kGroundState : s.bodies[body];
-}
 
 Pose poseOf(const BodyState& b) { return Pose{b.x, b.q}; }
 

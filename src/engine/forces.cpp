@@ -8,11 +8,6 @@
 namespace nscd {
 namespace {
 
-const BodyState kGroundState{};  // identity pose, at rest
-
-const BodyState& bodyOrGround(const State& s, int body) {
-  return body == kGround ? kGroundState : s.bodies[body];
-}
 
 Vec3 pointWorld(const BodyState& b, const Vec3& local) { return b.q * local + b.x; }
 Vec3 pointVelocity(const BodyState& b, const Vec3& local) {

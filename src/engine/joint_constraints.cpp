@@ -13,11 +13,6 @@
 namespace nscd {
 namespace {
 
-const BodyState kGroundState{};
-
-const BodyState& bodyOrGround(const State& s, int body) {
-  return body == kGround ? kGroundState : s.bodies[body];
-}
 
 // Jacobian of one row, written into G: linear part (world) and the angular
 // part given as a world vector for each body; converted to body frames here.

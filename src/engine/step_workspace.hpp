@@ -86,6 +86,12 @@ class StepWorkspace {
   ContactPoint points[kMaxClearancePoints];
 };
 
+// The state of a body, or of ground (identity pose, at rest) for kGround.
+inline const BodyState& bodyOrGround(const State& s, int body) {
+  static const BodyState ground{};
+  return body == kGround ? ground : s.bodies[body];
+}
+
 // ---- stages (each in its own file) ----
 
 // forces.cpp: generalized forces at the state; with jacobians, K and C too.
