@@ -34,6 +34,7 @@
 #include "contact_markers.hpp"
 #include "nscd_sim/ContactArray.h"
 #include "nscd_sim/Step.h"
+#include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "ros_conversions.hpp"
@@ -73,12 +74,13 @@ struct NodeOptions {
   bool start_paused = false;
   bool use_sim_time = false;
   MarkerStyle markers;
+  std::vector<std::string> schedules;  // "NAME=t0:v0,t1:v1,..." as for nscd_run --command
 };
 
 const std::vector<std::string>& nodeParamKeys() {
   static const std::vector<std::string> keys = {
       "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
-      "force_scale", "marker_size", "ecc_scale"};
+      "force_scale", "marker_size", "ecc_scale", "schedule"};
   return keys;
 }
 
@@ -111,7 +113,60 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   o.markers.ecc_scale = numberParam(pnh, "ecc_scale", o.markers.ecc_scale, false);
   pnh.param("start_paused", o.start_paused, o.start_paused);
   ros::param::param("/use_sim_time", o.use_sim_time, false);
+  XmlRpc::XmlRpcValue v;
+  if (pnh.getParam("schedule", v)) {
+    const std::string where = "parameter " + pnh.resolveName("schedule");
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      o.schedules.push_back(static_cast<std::string>(v));
+    } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+      for (int i = 0; i < v.size(); ++i) {
+        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+          throw nscd::SceneError(where + ": expected strings \"NAME=t0:v0,t1:v1,...\"");
+        o.schedules.push_back(static_cast<std::string>(v[i]));
+      }
+    } else {
+      throw nscd::SceneError(where + ": expected a string or a list of strings " +
+                             "\"NAME=t0:v0,t1:v1,...\"");
+    }
+  }
   return o;
+}
+
+// An actuator command schedule the node follows until a topic command takes over.
+struct ScheduledCommand {
+  int actuator = -1;
+  nscd::CommandSchedule schedule;
+  bool active = true;
+};
+
+// Parses ~schedule against the scene's actuators. Throws nscd::SceneError.
+std::vector<ScheduledCommand> parseSchedules(const ros::NodeHandle& pnh,
+                                             const std::vector<std::string>& texts,
+                                             const nscd::Model& model) {
+  std::vector<ScheduledCommand> out;
+  const std::string where = "parameter " + pnh.resolveName("schedule");
+  for (const std::string& text : texts) {
+    ScheduledCommand c;
+    try {
+      c.schedule = nscd::parseCommandSchedule(text);
+    } catch (const std::exception& e) {
+      throw nscd::SceneError(where + ": " + e.what());
+    }
+    for (size_t i = 0; i < model.actuators.size(); ++i)
+      if (model.actuators[i].name == c.schedule.actuator) c.actuator = static_cast<int>(i);
+    if (c.actuator < 0) {
+      std::string names;
+      for (const nscd::Actuator& a : model.actuators) names += (names.empty() ? "" : ", ") + a.name;
+      throw nscd::SceneError(where + ": the scene has no actuator '" + c.schedule.actuator +
+                             "' (actuators: " + (names.empty() ? "none" : names) + ")");
+    }
+    for (const ScheduledCommand& other : out)
+      if (other.actuator == c.actuator)
+        throw nscd::SceneError(where + ": two schedules for actuator '" + c.schedule.actuator +
+                               "'");
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 // Typos in parameter names would otherwise pass silently.
@@ -147,13 +202,15 @@ nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
 class SimNode {
  public:
   SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
-          const NodeOptions& options)
-      : nh_(nh), pnh_(pnh), sim_(std::move(sim)), opt_(options) {
+          const NodeOptions& options, std::vector<ScheduledCommand> schedules)
+      : nh_(nh), pnh_(pnh), sim_(std::move(sim)), opt_(options),
+        schedules_(std::move(schedules)) {
     const nscd::Model& model = sim_->model();
     scene_name_ = model.source_file;
     opt_.markers.frame = model.world_frame;
     paused_ = opt_.start_paused;
     updateRunning();
+    restartSchedules();
 
     for (size_t i = 0; i < model.links.size(); ++i) {
       if (model.links[i].name == model.world_frame) continue;
@@ -200,6 +257,11 @@ class SimNode {
              scene_name_.c_str(), model.bodies.size(), model.links.size(),
              model.actuators.size(), model.settings.dt, opt_.real_time_factor,
              opt_.publish_rate, paused_ ? ", paused" : "");
+    for (const ScheduledCommand& c : schedules_)
+      ROS_INFO("nscd_sim_node: actuator '%s' follows a schedule of %zu points until a command "
+               "arrives on %s",
+               c.schedule.actuator.c_str(), c.schedule.points.size(),
+               pnh_.resolveName(c.schedule.actuator + "/command").c_str());
   }
 
   // The stepping and publishing loop; returns when ROS shuts down.
@@ -287,9 +349,20 @@ class SimNode {
     return running_;
   }
 
+  // Requires mutex_. Schedules start again from their first value (sim time 0).
+  void restartSchedules() {
+    for (ScheduledCommand& c : schedules_) {
+      c.active = true;
+      sim_->setCommand(c.actuator, c.schedule.value(sim_->state().t));
+    }
+  }
+
   // Requires mutex_.
   void stepLocked() {
     const double t0 = sim_->state().t;
+    // As nscd_run: the command at the end of the step.
+    for (const ScheduledCommand& c : schedules_)
+      if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t0 + sim_->model().settings.dt));
     const nscd::StepStatus status = sim_->step();
     const nscd::StepStats& st = sim_->stats();
     ++steps_;
@@ -328,6 +401,12 @@ class SimNode {
     if (std::isfinite(value)) {
       const auto lock = callbackLock();
       accepted = sim_->setCommand(actuator, value);
+      for (ScheduledCommand& c : schedules_)
+        if (accepted && c.actuator == actuator && c.active) {
+          c.active = false;
+          ROS_INFO("nscd_sim_node: %s/command takes over from the schedule of '%s' (until ~reset)",
+                   pnh_.resolveName(name).c_str(), name.c_str());
+        }
     }
     if (!accepted && command_throttle_.ready(1.0))
       ROS_WARN("nscd_sim_node: ignored command %g on %s/command (not a finite number)", value,
@@ -338,6 +417,7 @@ class SimNode {
     {
       const auto lock = callbackLock();
       sim_->reset();
+      restartSchedules();
       steps_ = 0;
       failed_ = false;
       failure_.clear();
@@ -500,6 +580,7 @@ class SimNode {
   ros::NodeHandle& pnh_;
   std::unique_ptr<nscd::Simulator> sim_;
   NodeOptions opt_;
+  std::vector<ScheduledCommand> schedules_;  // guarded by mutex_
   std::string scene_name_;
 
   std::mutex mutex_;  // guards sim_, steps_, window_, failure_, paused_/failed_ writes
@@ -546,6 +627,7 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<nscd::Simulator> sim;
   nscd_node::NodeOptions options;
+  std::vector<nscd_node::ScheduledCommand> schedules;
   try {
     options = nscd_node::readNodeOptions(pnh);
     nscd::Model model = nscd_node::loadModel(nh, pnh);
@@ -555,13 +637,14 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       throw nscd::SceneError(source + ": " + e.what());
     }
+    schedules = nscd_node::parseSchedules(pnh, options.schedules, sim->model());
   } catch (const std::exception& e) {
     ROS_FATAL("%s", e.what());
     return 2;
   }
   nscd_node::warnUnknownParams(pnh);
 
-  nscd_node::SimNode node(nh, pnh, std::move(sim), options);
+  nscd_node::SimNode node(nh, pnh, std::move(sim), options, std::move(schedules));
   ros::AsyncSpinner spinner(1);
   spinner.start();
   node.run();

@@ -111,6 +111,17 @@ TEST(BadScene, BadNodeParameterExits) {
   EXPECT_NE(r.output.find("publish_rate"), std::string::npos) << r.output;
 }
 
+// A schedule for an actuator the scene does not have, and a malformed one.
+TEST(BadScene, BadScheduleExits) {
+  const std::string pendulum = "_scene:=" + kSource + "/test/ros/actuated_pendulum.urdf";
+  RunResult r = runNode({"__name:=bad_schedule_name", pendulum, "_schedule:=nosuch=0:0,1:1"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("no actuator 'nosuch'"), std::string::npos) << r.output;
+  r = runNode({"__name:=bad_schedule_text", pendulum, "_schedule:=hinge_motor=0:0,oops"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("schedule"), std::string::npos) << r.output;
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "bad_scene_test");
