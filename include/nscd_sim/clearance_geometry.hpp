@@ -26,4 +26,14 @@ ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, do
 int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose& journal,
                       double margin, bool planar, double* phi_hint, ContactPoint* out);
 
+// For the position projection: the radial constraint of a ring is the disc
+// |e| <= R - rj, and one half-plane (the deepest direction, `ring_point`) is a
+// poor model of it when the correction is comparable to the clearance: passes
+// then oscillate around the circle. This adds the half-planes at +-30 and +-60
+// degrees about the ring axis (tangent lines of the same disc, each a necessary
+// condition), those with gap below margin. The journal axis point of
+// `ring_point` is kept (exact for an untilted journal). out must hold 4 points.
+int clearanceRingFacets(const ClearanceJoint& cj, const Pose& bearing,
+                        const ContactPoint& ring_point, double margin, ContactPoint* out);
+
 }  // namespace nscd

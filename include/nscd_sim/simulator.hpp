@@ -44,6 +44,9 @@ struct StepStats {
   int rows = 0;
   int projection_passes = 0;
   double max_penetration = 0;  // largest (positive) penetration at the end of the step
+  bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
+  int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
+  bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };

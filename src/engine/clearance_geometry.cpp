@@ -298,4 +298,31 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
   return n;
 }
 
+int clearanceRingFacets(const ClearanceJoint& cj, const Pose& bearing,
+                        const ContactPoint& ring_point, double margin, ContactPoint* out) {
+  const Vec3 nb = bearing.rotate(cj.bearing_axis);
+  const Vec3 cb = bearing.apply(cj.bearing_center);
+  const double R = cj.radius + cj.radial;
+  // Ring centre: the bearing-axis point level with the ring point.
+  const Vec3 c = cb + nb.dot(ring_point.point_a - cb) * nb;
+  const Vec3 foot = ring_point.point_b - cj.radius * ring_point.normal;
+  Vec3 n0 = ring_point.normal - ring_point.normal.dot(nb) * nb;
+  if (n0.squaredNorm() < 1e-24) return 0;
+  n0.normalize();
+  const Vec3 m0 = nb.cross(n0);
+  static const double kAngles[4] = {kPi / 6, -kPi / 6, kPi / 3, -kPi / 3};
+  int n = 0;
+  for (double ang : kAngles) {
+    const Vec3 dir = std::cos(ang) * n0 + std::sin(ang) * m0;
+    ContactPoint cp;
+    cp.point_a = c + R * dir;
+    cp.point_b = foot + cj.radius * dir;
+    cp.normal = dir;
+    cp.gap = (cp.point_a - cp.point_b).dot(dir);
+    cp.feature = ring_point.feature;
+    if (cp.gap < margin) out[n++] = cp;
+  }
+  return n;
+}
+
 }  // namespace nscd

@@ -60,6 +60,60 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
   }
 }
 
+namespace {
+
+// Normal approach velocity of a contact point for the generalized velocity v
+// (6 per body: linear world, angular body frame).
+double normalVelocityOf(const Eigen::VectorXd& v, const State& s, int ia, int ib,
+                        const ContactPoint& cp) {
+  Vec3 va = Vec3::Zero(), vb = Vec3::Zero();
+  if (ia != kGround) {
+    const BodyState& a = s.bodies[ia];
+    va = v.segment<3>(6 * ia) + (a.q * Vec3(v.segment<3>(6 * ia + 3))).cross(cp.point_a - a.x);
+  }
+  if (ib != kGround) {
+    const BodyState& b = s.bodies[ib];
+    vb = v.segment<3>(6 * ib) + (b.q * Vec3(v.segment<3>(6 * ib + 3))).cross(cp.point_b - b.x);
+  }
+  return cp.normal.dot(va - vb);
+}
+
+void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, bool normal_only,
+                      StepWorkspace& ws) {
+  if (ws.rows + 3 > ws.max_rows) return;  // cannot happen: sized for the worst case
+  ConstraintBlock blk;
+  blk.cp = c.cp;
+  blk.body_a = c.body_a;
+  blk.body_b = c.body_b;
+  blk.mu = c.mu;
+  blk.e = c.e;
+  blk.source = c.source;
+  blk.clearance = c.clearance;
+  blk.slot = c.slot;
+  blk.row = ws.rows;
+  if (normal_only || c.mu <= 0) {
+    blk.kind = BlockKind::Frictionless;
+    blk.size = 1;
+  } else {
+    blk.kind = BlockKind::Frictional;
+    blk.size = 3;
+  }
+  if (m.settings.planar == PlanarMode::XY) {
+    blk.t2 = Vec3::UnitZ();
+    blk.t1 = blk.t2.cross(c.cp.normal);
+    const double l = blk.t1.norm();
+    blk.t1 = l > 1e-12 ? Vec3(blk.t1 / l) : anyOrthogonal(c.cp.normal);
+  } else {
+    blk.t1 = anyOrthogonal(c.cp.normal);
+    blk.t2 = c.cp.normal.cross(blk.t1);
+  }
+  writeJacobianRows(s, blk, ws.G);
+  ws.rows += blk.size;
+  ws.blocks.push_back(blk);
+}
+
+}  // namespace
+
 // `s` holds q_k and v_k; ws.vfree the free velocity (may be unused: normal_only).
 void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
                          double extra_margin, StepWorkspace& ws) {
@@ -67,58 +121,24 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
   const bool planar = set.planar == PlanarMode::XY;
   const double eps_act = set.projection_tolerance + (normal_only ? 0.0 : set.activation_margin);
   const int npairs = static_cast<int>(m.contacts.size());
+  if (!normal_only) ws.deferred.clear();
 
   auto addBlock = [&](const ContactPoint& cp, int ia, int ib, double mu, double e, int source,
                       bool clearance, int slot) {
+    const DeferredContact c{cp, ia, ib, mu, e, source, clearance, slot};
     if (!normal_only) {
       // Activation: the gap predicted from v_k, or from the free motion, closes.
       const double un = normalVelocity(s, ia, ib, cp);
-      bool active = cp.gap + set.activation_gamma * h * un <= eps_act;
+      const bool active = cp.gap + set.activation_gamma * h * un <= eps_act ||
+                          cp.gap + h * normalVelocityOf(ws.vfree, s, ia, ib, cp) <= 0;
       if (!active) {
-        // free velocity: a cheap dot product with the rows of ws.vfree
-        const BodyState& a = bodyOrGround(s, ia);
-        const BodyState& b = bodyOrGround(s, ib);
-        Vec3 va = Vec3::Zero(), vb = Vec3::Zero();
-        if (ia != kGround)
-          va = ws.vfree.segment<3>(6 * ia) +
-               (a.q * Vec3(ws.vfree.segment<3>(6 * ia + 3))).cross(cp.point_a - a.x);
-        if (ib != kGround)
-          vb = ws.vfree.segment<3>(6 * ib) +
-               (b.q * Vec3(ws.vfree.segment<3>(6 * ib + 3))).cross(cp.point_b - b.x);
-        active = cp.gap + h * cp.normal.dot(va - vb) <= 0;
+        // Kept: the impulses of the other contacts may still close it (see
+        // activateLateContacts).
+        if (ws.deferred.size() < ws.deferred.capacity()) ws.deferred.push_back(c);
+        return;
       }
-      if (!active) return;
     }
-    if (ws.rows + 3 > ws.max_rows) return;  // cannot happen: sized for the worst case
-    ConstraintBlock blk;
-    blk.cp = cp;
-    blk.body_a = ia;
-    blk.body_b = ib;
-    blk.mu = mu;
-    blk.e = e;
-    blk.source = source;
-    blk.clearance = clearance;
-    blk.slot = slot;
-    blk.row = ws.rows;
-    if (normal_only || mu <= 0) {
-      blk.kind = BlockKind::Frictionless;
-      blk.size = 1;
-    } else {
-      blk.kind = BlockKind::Frictional;
-      blk.size = 3;
-    }
-    if (planar) {
-      blk.t2 = Vec3::UnitZ();
-      blk.t1 = blk.t2.cross(cp.normal);
-      const double l = blk.t1.norm();
-      blk.t1 = l > 1e-12 ? Vec3(blk.t1 / l) : anyOrthogonal(cp.normal);
-    } else {
-      blk.t1 = anyOrthogonal(cp.normal);
-      blk.t2 = cp.normal.cross(blk.t1);
-    }
-    writeJacobianRows(s, blk, ws.G);
-    ws.rows += blk.size;
-    ws.blocks.push_back(blk);
+    pushContactBlock(m, s, c, normal_only, ws);
   };
 
   for (int p = 0; p < npairs; ++p) {
@@ -144,12 +164,37 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
         extra_margin + eps_act + 2.0 * h * (speedBound(br, reach) + speedBound(jr, reach));
     const int np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar,
                                      &ws.phi_hint[2 * c], ws.points);
-    for (int k = 0; k < np; ++k)
-      addBlock(ws.points[k], cj.bearing_body, cj.journal_body, cj.mu, cj.e,
-               static_cast<int>(c), true,
+    for (int k = 0; k < np; ++k) {
+      const ContactPoint cp = ws.points[k];
+      addBlock(cp, cj.bearing_body, cj.journal_body, cj.mu, cj.e, static_cast<int>(c), true,
                ws.contact_slot_base_clearance + static_cast<int>(c) * kMaxClearancePoints +
-                   ws.points[k].feature);
+                   cp.feature);
+      // Projection only: a penetrating ring also gets neighbouring facets of its disc.
+      if (normal_only && cp.feature < 2 && cp.gap < 0) {
+        ContactPoint facets[4];
+        const int nf = clearanceRingFacets(cj, poseOf(br), cp, margin, facets);
+        for (int f = 0; f < nf; ++f)
+          addBlock(facets[f], cj.bearing_body, cj.journal_body, cj.mu, cj.e,
+                   static_cast<int>(c), true, -1);
+      }
+    }
   }
+}
+
+int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws) {
+  int added = 0;
+  size_t keep = 0;
+  for (size_t i = 0; i < ws.deferred.size(); ++i) {
+    const DeferredContact& c = ws.deferred[i];
+    if (c.cp.gap + h * normalVelocityOf(ws.vnew, s, c.body_a, c.body_b, c.cp) <= 0) {
+      pushContactBlock(m, s, c, false, ws);
+      ++added;
+    } else {
+      ws.deferred[keep++] = c;
+    }
+  }
+  ws.deferred.resize(keep);
+  return added;
 }
 
 }  // namespace nscd

@@ -11,6 +11,8 @@
 namespace nscd {
 namespace {
 
+constexpr int kProjectionBacktracks = 4;
+
 void gatherPositionRows(const Model& m, const State& s, const std::vector<double>& commands,
                         StepWorkspace& ws, double extra_margin) {
   ws.blocks.clear();
@@ -79,7 +81,23 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
     ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
     if (!ws.dv.allFinite()) return pass;
-    applyDisplacement(s, ws.dv);
+    // Backtracking: the linearised correction can overshoot where the gaps are
+    // curved on the scale of the correction (a journal far outside a small
+    // clearance, coupled joints) and the passes would then oscillate. Take the
+    // longest of 1, 1/2, 1/4, 1/8 of it that lowers the violation (else 1/8).
+    ws.saved_bodies = s.bodies;
+    for (int k = 0; k < kProjectionBacktracks; ++k) {
+      if (k > 0) {
+        s.bodies = ws.saved_bodies;
+        ws.dv *= 0.5;
+      }
+      applyDisplacement(s, ws.dv);
+      if (k + 1 == kProjectionBacktracks) break;
+      gatherPositionRows(m, s, commands, ws, 0.0);
+      double bil_t = 0;
+      const double pen_t = violationOfBlocks(ws, &bil_t);
+      if (std::max(pen_t, bil_t) < violation) break;
+    }
   }
 }
 

@@ -38,6 +38,40 @@ int bilateralRowCount(const Model& m, std::vector<int>& joint_base, std::vector<
 }
 
 // M^-1 restricted to the allowed directions: B (B^T A B)^-1 B^T (B = I unless planar).
+// The kinetic energy the contact impulses add in this step, Phi = sum_c P_c.u+_c
+// - P.W.P/2 (the change K(v+) - K(v_free) minus the work of the bilateral rows'
+// targets), compared with K(v_free). With e = 0 every term is <= 0 (u_N+ P_N = 0,
+// friction opposes u_T+), so Phi > 0 can only come from restitution.
+// Residual above which an unconverged frictional answer is replaced (see step()).
+constexpr double kFrictionlessFallbackResidual = 1e-3;
+// Re-solves per step for contacts closed by the answer (activateLateContacts).
+constexpr int kLateActivationRounds = 3;
+
+bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
+  bool any_restitution = false;
+  for (const ConstraintBlock& blk : ws.blocks)
+    any_restitution = any_restitution || (blk.kind != BlockKind::Bilateral && blk.e > 0);
+  if (!any_restitution) return false;
+  const auto G = ws.G.topRows(r);
+  double post = 0, wpp = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    for (int k = 0; k < blk.size; ++k) {
+      const int i = blk.row + k;
+      const double u_new = G.row(i).dot(ws.vnew);
+      const double u_free = G.row(i).dot(ws.vfree);
+      wpp += ws.P[i] * (u_new - u_free);
+      if (blk.kind != BlockKind::Bilateral) post += ws.P[i] * u_new;
+    }
+  }
+  double k_free = 0;
+  for (int b = 0; b < ws.nbodies; ++b) {
+    const Eigen::Vector3d v = ws.vfree.segment<3>(6 * b), w = ws.vfree.segment<3>(6 * b + 3);
+    k_free += 0.5 * (m.bodies[b].mass * v.squaredNorm() + w.dot(m.bodies[b].inertia * w));
+  }
+  const double phi = post - 0.5 * wpp;
+  return std::isfinite(phi) && phi > 1e-12 * k_free + 1e-300;
+}
+
 bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out) {
   if (!ws.planar) {
     ws.llt.compute(A);
@@ -77,11 +111,13 @@ Simulator::Simulator(Model model) : model_(std::move(model)), ws_(new StepWorksp
   ws.Minv = Eigen::MatrixXd::Zero(n, n);
   ws.Mproj = Eigen::MatrixXd::Zero(n, n);
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.dv = Eigen::VectorXd::Zero(n);
+  ws.saved_bodies.resize(m.bodies.size());
   ws.G = Eigen::MatrixXd::Zero(mr, n);
   ws.Y = Eigen::MatrixXd::Zero(n, mr);
   ws.W = Eigen::MatrixXd::Zero(mr, mr);
   ws.b = ws.P = Eigen::VectorXd::Zero(mr);
   ws.blocks.reserve(mr);
+  ws.deferred.reserve(contact_slots);
   ws.problem.reserve(mr);
   ws.reports.reserve(mr);
   ws.warm.assign(contact_slots, Eigen::Vector3d::Zero());
@@ -214,19 +250,26 @@ StepStatus Simulator::step() {
   // 2. constraint rows
   appendBilateralBlocks(m, state_, commands_, ws.rates, ws);
   appendContactBlocks(m, state_, h, false, 0.0, ws);
-  const int r = ws.rows;
 
   // 3-4. Delassus operator, local free velocities, solve
   StepStats& st = ws.stats;
   st = StepStats();
-  st.rows = r;
   ws.reports.clear();
-  if (r > 0) {
+  SolverOptions opt;
+  opt.tolerance = set.tolerance;
+  opt.max_iterations = set.max_iterations;
+
+  // Assembles W, b and the blocks of rows [0, ws.rows) and solves. Rows below
+  // `kept` start from the current ws.P (a re-solve), the others from the warm
+  // start cache. Leaves ws.vnew.
+  const auto assembleAndSolve = [&](int kept) {
+    const int r = ws.rows;
     auto G = ws.G.topRows(r);
     ws.Y.leftCols(r).noalias() = ws.Minv * G.transpose();
     ws.W.topLeftCorner(r, r).noalias() = G * ws.Y.leftCols(r);
     ws.b.head(r).noalias() = G * ws.vfree;
     ws.problem.clear();
+    st.active_contacts = 0;
     for (ConstraintBlock& blk : ws.blocks) {
       ProblemBlock pb;
       pb.kind = blk.kind;
@@ -234,19 +277,22 @@ StepStatus Simulator::step() {
       pb.size = blk.size;
       pb.mu = blk.mu;
       ws.problem.push_back(pb);
+      const bool warm = blk.row >= kept;
       if (blk.kind == BlockKind::Bilateral) {
         for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
         const int base = blk.joint >= 0 ? ws.joint_row_base[blk.joint]
                                         : ws.actuator_row_base[blk.actuator];
-        for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = ws.warm_bilateral[base + k];
+        if (warm)
+          for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = ws.warm_bilateral[base + k];
       } else {
         ++st.active_contacts;
         // Newton impact law: U_N+ >= -e U_N- for approaching contacts.
         const double un_k = G.row(blk.row).dot(ws.vk);
         if (un_k < 0) ws.b[blk.row] += blk.e * un_k;
-        const Eigen::Vector3d& w = ws.warm[blk.slot];
-        const bool valid = ws.warm_valid[blk.slot] != 0;
-        for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = valid ? w[k] : 0.0;
+        if (warm) {
+          const bool valid = blk.slot >= 0 && ws.warm_valid[blk.slot] != 0;
+          for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = valid ? ws.warm[blk.slot][k] : 0.0;
+        }
         if (set.planar == PlanarMode::XY && blk.size == 3) {
           // The out-of-plane tangent row is void: decouple it so P_T2 stays 0.
           const int t2 = blk.row + 2;
@@ -258,26 +304,82 @@ StepStatus Simulator::step() {
         }
       }
     }
-    SolverOptions opt;
-    opt.tolerance = set.tolerance;
-    opt.max_iterations = set.max_iterations;
+    SolverOptions o = opt;
     SolverReport rep =
-        ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+        ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
     if (!ws.P.head(r).allFinite() && ws.W.topLeftCorner(r, r).allFinite() && ws.b.head(r).allFinite()) {
       // Robustness: a non-finite answer from the Newton stage is never applied;
       // solve again cold by plain NSGS.
       ws.P.head(r).setZero();
-      opt.method = SolverMethod::NSGS;
-      rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+      o.method = SolverMethod::NSGS;
+      rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
+    }
+    ws.vnew = ws.vfree;
+    ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+    bool plastic = false;
+    if (st.active_contacts > 0 && restitutionGainsEnergy(m, ws, r)) {
+      // Newton's law at several coupled frictional points can add kinetic energy
+      // (it is only proven dissipative for one point). The impact is then taken
+      // as plastic (e = 0), which cannot gain; see restitutionGainsEnergy.
+      for (const ConstraintBlock& blk : ws.blocks) {
+        if (blk.kind == BlockKind::Bilateral) continue;
+        const double un_k = G.row(blk.row).dot(ws.vk);
+        if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
+      }
+      rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
+      ws.vnew = ws.vfree;
+      ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+      plastic = st.plastic_fallback = true;
+    }
+    if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual) && st.active_contacts > 0) {
+      // The frictional problem was not solved (it may have no solution: Coulomb
+      // friction with restitution at coupled points). Far from a solution the
+      // iterate can drive bodies through each other, so this step is taken
+      // frictionless and plastic: a convex problem, always solvable. The
+      // problem blocks are rebuilt by the next assembly.
+      for (const ConstraintBlock& blk : ws.blocks) {
+        if (blk.kind == BlockKind::Bilateral || plastic) continue;
+        const double un_k = G.row(blk.row).dot(ws.vk);
+        if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
+      }
+      for (ProblemBlock& pb : ws.problem) pb.mu = 0;
+      const SolverReport rep0 =
+          ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
+      if (ws.P.head(r).allFinite()) {
+        rep.iterations += rep0.iterations;
+        rep.residual = rep0.residual;
+        rep.converged = false;  // the step's own problem stays unsolved: reported
+        ws.vnew = ws.vfree;
+        ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+        st.frictionless_fallback = true;
+      }
+    }
+    return rep;
+  };
+
+  if (ws.rows > 0) {
+    SolverReport rep = assembleAndSolve(0);
+    // Candidates left out because neither v_k nor v_free closed them can be
+    // closed by the impulses at the others (a light body between two joints is
+    // kicked from one into the other): they join and the problem is solved
+    // again from this answer.
+    for (int round = 0; round < kLateActivationRounds; ++round) {
+      const int kept = ws.rows;
+      const int added = activateLateContacts(m, state_, h, ws);
+      if (added == 0) break;
+      st.late_contacts += added;
+      const int iterations = rep.iterations;
+      rep = assembleAndSolve(kept);
+      rep.iterations += iterations;
     }
     st.iterations = rep.iterations;
     st.residual = rep.residual;
     st.converged = rep.converged;
-    ws.vnew = ws.vfree;
-    ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
   } else {
     ws.vnew = ws.vfree;
   }
+  st.rows = ws.rows;
+  const int r = ws.rows;
 
   // Warm starts for the next step: exactly this step's active set.
   std::fill(ws.warm_valid.begin(), ws.warm_valid.end(), 0);

@@ -34,6 +34,17 @@ struct ConstraintBlock {
   int actuator = -1;        // prescribed actuator index, or -1
 };
 
+// A contact candidate left out of this step's problem (its gap does not close
+// under v_k or v_free); activateLateContacts checks it against the answer.
+struct DeferredContact {
+  ContactPoint cp;
+  int body_a = kGround, body_b = kGround;
+  double mu = 0, e = 0;
+  int source = -1;
+  bool clearance = false;
+  int slot = -1;
+};
+
 class StepWorkspace {
  public:
   int nbodies = 0;
@@ -53,12 +64,14 @@ class StepWorkspace {
   bool planar = false;
   Eigen::LLT<Eigen::MatrixXd> llt;
   Eigen::VectorXd rhs, vk, vfree, vnew, dv;
+  std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   std::vector<double> actuator_effort;
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
   std::vector<double> spring_force;
 
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
+  std::vector<DeferredContact> deferred;  // capacity: one per contact slot
   std::vector<ProblemBlock> problem;
   Eigen::MatrixXd G;       // max_rows x n
   Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
@@ -113,6 +126,10 @@ void appendBilateralBlocks(const Model& m, const State& s, const std::vector<dou
 void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
                          double extra_margin, StepWorkspace& ws);
 // Writes the Jacobian rows of block `blk` into ws.G.
+// Candidates of this step left out by appendContactBlocks that close under the
+// solved velocity ws.vnew (g + h u_N(v_new) <= 0): appended as new blocks.
+// Returns how many.
+int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws);
 void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
 
 // projection.cpp: combined projection of positions onto the constraints.
