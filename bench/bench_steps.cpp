@@ -7,6 +7,7 @@
 #include <string>
 
 #include "../test/physics_scenes.hpp"
+#include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 
@@ -113,6 +114,58 @@ void BM_ClearancePendulumNoSkip(benchmark::State& state) {
   runSteps(state, *sim, 1000);
 }
 BENCHMARK(BM_ClearancePendulumNoSkip)->Unit(benchmark::kMicrosecond);
+
+// "mu = 0 contacts are one row": the same n frictionless contacts (normal rows of
+// a random SPD Delassus operator, approaching) solved as n one-row blocks, as the
+// engine does, or as n three-row frictional blocks with mu = 0 (what it would do
+// without the skip). Cold start each time.
+void BM_FrictionlessContacts(benchmark::State& state) {
+  const int n = 12;
+  const bool three_rows = state.range(0) != 0;
+  std::srand(7);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(3 * n, 3 * n);
+  const Eigen::MatrixXd W3 = A * A.transpose() / (3 * n) + 0.1 * Eigen::MatrixXd::Identity(3 * n, 3 * n);
+  Eigen::VectorXd b3 = Eigen::VectorXd::Zero(3 * n);
+  for (int i = 0; i < n; ++i) b3[3 * i] = -1.0 - 0.1 * i;
+  Eigen::MatrixXd W1(n, n);
+  Eigen::VectorXd b1(n);
+  for (int i = 0; i < n; ++i) {
+    b1[i] = b3[3 * i];
+    for (int j = 0; j < n; ++j) W1(i, j) = W3(3 * i, 3 * j);
+  }
+  std::vector<ProblemBlock> blocks(n);
+  for (int i = 0; i < n; ++i) {
+    blocks[i].kind = three_rows ? BlockKind::Frictional : BlockKind::Frictionless;
+    blocks[i].row = three_rows ? 3 * i : i;
+    blocks[i].size = three_rows ? 3 : 1;
+    blocks[i].mu = 0;
+  }
+  FrictionContactSolver solver;
+  SolverOptions opt;
+  Eigen::VectorXd P = Eigen::VectorXd::Zero(three_rows ? 3 * n : n);
+  long iters = 0, k = 0;
+  for (auto _ : state) {
+    P.setZero();
+    const SolverReport rep = three_rows ? solver.solve(W3, b3, blocks, opt, P)
+                                        : solver.solve(W1, b1, blocks, opt, P);
+    iters += rep.iterations;
+    ++k;
+  }
+  state.counters["iterations"] = k ? double(iters) / k : 0.0;
+}
+BENCHMARK(BM_FrictionlessContacts)->Arg(0)->Arg(1)->ArgNames({"three_rows"})->Unit(benchmark::kMicrosecond);
+
+// "No projection pass when nothing is violated": the journal at rest with the
+// projection on (each step only measures the violation, below the tolerance, and
+// returns) against projection off.
+void BM_JournalProjection(benchmark::State& state, const char* projection) {
+  auto sim = makeSim(nscd_test::sleeveScene(0.05e-3, 0.0, 0.2, -9.81, 1e-4),
+                     {{"projection", projection, "bench"}});
+  runSteps(state, *sim, 2000);
+  state.counters["projection_passes"] = sim->stats().projection_passes;
+}
+BENCHMARK_CAPTURE(BM_JournalProjection, on, "true")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JournalProjection, off, "false")->Unit(benchmark::kMicrosecond);
 
 // A whole nscd_run (process start, load, 1 s of the ball, JSON): wall time per run.
 void BM_NscdRunBall(benchmark::State& state) {
