@@ -74,9 +74,7 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
       else
         ws.b[blk.row] = blk.cp.gap;
     }
-    auto G = ws.G.topRows(r);
-    ws.Y.leftCols(r).noalias() = ws.Mproj * G.transpose();
-    ws.W.topLeftCorner(r, r).noalias() = G * ws.Y.leftCols(r);
+    assembleDelassus(ws.Mproj, ws, r);
     ws.P.head(r).setZero();
     ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);

@@ -118,6 +118,7 @@ Simulator::Simulator(Model model) : model_(std::move(model)), ws_(new StepWorksp
   ws.b = ws.P = Eigen::VectorXd::Zero(mr);
   ws.blocks.reserve(mr);
   ws.deferred.reserve(contact_slots);
+  ws.row_bodies.assign(mr, {kGround, kGround});
   ws.problem.reserve(mr);
   ws.reports.reserve(mr);
   ws.warm.assign(contact_slots, Eigen::Vector3d::Zero());
@@ -265,8 +266,7 @@ StepStatus Simulator::step() {
   const auto assembleAndSolve = [&](int kept) {
     const int r = ws.rows;
     auto G = ws.G.topRows(r);
-    ws.Y.leftCols(r).noalias() = ws.Minv * G.transpose();
-    ws.W.topLeftCorner(r, r).noalias() = G * ws.Y.leftCols(r);
+    assembleDelassus(ws.Minv, ws, r);
     ws.b.head(r).noalias() = G * ws.vfree;
     ws.problem.clear();
     st.active_contacts = 0;
@@ -379,7 +379,6 @@ StepStatus Simulator::step() {
     ws.vnew = ws.vfree;
   }
   st.rows = ws.rows;
-  const int r = ws.rows;
 
   // Warm starts for the next step: exactly this step's active set.
   std::fill(ws.warm_valid.begin(), ws.warm_valid.end(), 0);

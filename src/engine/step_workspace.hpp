@@ -2,6 +2,7 @@
 // functions themselves (one .cpp each). Internal to the engine.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -72,6 +73,7 @@ class StepWorkspace {
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
   std::vector<DeferredContact> deferred;  // capacity: one per contact slot
+  std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<ProblemBlock> problem;
   Eigen::MatrixXd G;       // max_rows x n
   Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
@@ -129,6 +131,8 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
 // Candidates of this step left out by appendContactBlocks that close under the
 // solved velocity ws.vnew (g + h u_N(v_new) <= 0): appended as new blocks.
 // Returns how many.
+// Y = Minv G^T and W = G Y for rows [0, r), from the two bodies of each row.
+void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int r);
 int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws);
 void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
 

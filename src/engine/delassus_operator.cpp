@@ -1,0 +1,38 @@
+// Stage 3: the Delassus operator W = G Ŵ Gᵀ (and Y = Ŵ Gᵀ, which maps impulses
+// to velocity changes). Every row of G touches at most two bodies, i.e. 12 of
+// its 6N columns, so both products are formed from those 6-column pieces only:
+// O(r·12·6N) and O(r²·12) instead of O(r·(6N)²) and O(r²·6N) for dense products.
+// W is filled symmetrically.
+#include "step_workspace.hpp"
+
+namespace nscd {
+
+void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int r) {
+  // Bodies of each row (kGround = none).
+  for (const ConstraintBlock& blk : ws.blocks) {
+    const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
+    for (int k = 0; k < blk.size; ++k) ws.row_bodies[blk.row + k] = {blk.body_a, b};
+  }
+  const int n = ws.n;
+  for (int i = 0; i < r; ++i) {
+    auto y = ws.Y.col(i).head(n);
+    y.setZero();
+    for (int body : ws.row_bodies[i]) {
+      if (body == kGround) continue;
+      y.noalias() += Minv.middleCols<6>(6 * body) * ws.G.row(i).segment<6>(6 * body).transpose();
+    }
+  }
+  for (int i = 0; i < r; ++i) {
+    const std::array<int, 2>& bi = ws.row_bodies[i];
+    for (int j = 0; j <= i; ++j) {
+      double w = 0;
+      for (int body : bi)
+        if (body != kGround)
+          w += ws.G.row(i).segment<6>(6 * body).dot(ws.Y.col(j).segment<6>(6 * body));
+      ws.W(i, j) = w;
+      ws.W(j, i) = w;
+    }
+  }
+}
+
+}  // namespace nscd
