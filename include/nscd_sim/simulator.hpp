@@ -47,6 +47,7 @@ struct StepStats {
   bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
+  bool energy_capped = false;   // still unsolved: impulses scaled so they add no kinetic energy
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };

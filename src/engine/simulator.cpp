@@ -354,6 +354,29 @@ StepStatus Simulator::step() {
         st.frictionless_fallback = true;
       }
     }
+    if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual)) {
+      // Still far from a solution (the problem may have none: coupled 3D joints
+      // at tiny clearances): such an answer must not add kinetic energy. Along
+      // its direction, dK(a) = a P.u_free + a^2/2 P.W.P; take the a in [0, 1]
+      // that minimises it, so dK <= 0. Prescribed motions are scaled too.
+      double pu = 0, pwp = 0;
+      for (int i = 0; i < r; ++i) {
+        pu += ws.P[i] * G.row(i).dot(ws.vfree);
+        pwp += ws.P[i] * G.row(i).dot(ws.vnew - ws.vfree);
+      }
+      double k_free = 0;
+      for (int bb = 0; bb < ws.nbodies; ++bb) {
+        const Eigen::Vector3d v = ws.vfree.segment<3>(6 * bb), w = ws.vfree.segment<3>(6 * bb + 3);
+        k_free += 0.5 * (m.bodies[bb].mass * v.squaredNorm() + w.dot(m.bodies[bb].inertia * w));
+      }
+      if (std::isfinite(pu) && std::isfinite(pwp) && pu + 0.5 * pwp > 1e-12 * k_free) {
+        const double a = pwp > 0 ? std::min(1.0, std::max(0.0, -pu / pwp)) : 0.0;
+        ws.P.head(r) *= a;
+        ws.vnew = ws.vfree;
+        ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+        st.energy_capped = true;
+      }
+    }
     return rep;
   };
 
