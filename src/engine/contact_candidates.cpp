@@ -170,7 +170,7 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
                ws.contact_slot_base_clearance + static_cast<int>(c) * kMaxClearancePoints +
                    cp.feature);
       // Projection only: a penetrating ring also gets neighbouring facets of its disc.
-      if (normal_only && cp.feature < 2 && cp.gap < 0) {
+      if (normal_only && ws.ring_facets && cp.feature < 2 && cp.gap < 0) {
         ContactPoint facets[4];
         const int nf = clearanceRingFacets(cj, poseOf(br), cp, margin, facets);
         for (int f = 0; f < nf; ++f)

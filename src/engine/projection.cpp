@@ -49,12 +49,20 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
   SolverOptions opt;
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
+  ws.ring_facets = false;
   for (int pass = 0;; ++pass) {
+    // The first pass is the plain linearised one (enough for the usual small
+    // drift); later passes, needed only where it was not, add ring facets and
+    // backtracking (below).
+    ws.ring_facets = pass > 0;
     gatherPositionRows(m, s, commands, ws, extra);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
-    if (violation <= tol || pass >= max_passes) return pass;
+    if (violation <= tol || pass >= max_passes) {
+      ws.ring_facets = false;
+      return pass;
+    }
     // Contacts within reach of the correction join the problem so that fixing
     // one violation does not create another.
     if (extra < 2 * violation) {
@@ -78,7 +86,14 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
     ws.P.head(r).setZero();
     ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
-    if (!ws.dv.allFinite()) return pass;
+    if (!ws.dv.allFinite()) {
+      ws.ring_facets = false;
+      return pass;
+    }
+    if (pass == 0) {
+      applyDisplacement(s, ws.dv);
+      continue;
+    }
     // Backtracking: the linearised correction can overshoot where the gaps are
     // curved on the scale of the correction (a journal far outside a small
     // clearance, coupled joints) and the passes would then oscillate. Take the

@@ -66,6 +66,7 @@ class StepWorkspace {
   Eigen::LLT<Eigen::MatrixXd> llt;
   Eigen::VectorXd rhs, vk, vfree, vnew, dv;
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
+  bool ring_facets = false;  // projection: penetrating rings also get tangent facets
   std::vector<double> actuator_effort;
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
   std::vector<double> spring_force;
