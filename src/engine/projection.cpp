@@ -51,10 +51,10 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
   opt.max_iterations = 500;
   ws.ring_facets = false;
   for (int pass = 0;; ++pass) {
-    // The first pass is the plain linearised one (enough for the usual small
-    // drift); later passes, needed only where it was not, add ring facets and
-    // backtracking (below).
-    ws.ring_facets = pass > 0;
+    // Penetrating rings get tangent facets from the first pass; backtracking
+    // (below) only from the second, which is needed only where the first pass
+    // was not enough.
+    ws.ring_facets = true;
     gatherPositionRows(m, s, commands, ws, extra);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
