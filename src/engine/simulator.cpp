@@ -47,6 +47,16 @@ constexpr double kFrictionlessFallbackResidual = 1e-3;
 // Re-solves per step for contacts closed by the answer (activateLateContacts).
 constexpr int kLateActivationRounds = 3;
 
+// Kinetic energy of the generalized velocity v (linear world, angular body frame).
+double kineticEnergyOf(const Model& m, const StepWorkspace& ws, const Eigen::VectorXd& v) {
+  double k = 0;
+  for (int b = 0; b < ws.nbodies; ++b) {
+    const Eigen::Vector3d lin = v.segment<3>(6 * b), ang = v.segment<3>(6 * b + 3);
+    k += 0.5 * (m.bodies[b].mass * lin.squaredNorm() + ang.dot(m.bodies[b].inertia * ang));
+  }
+  return k;
+}
+
 bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
   bool any_restitution = false;
   for (const ConstraintBlock& blk : ws.blocks)
@@ -63,13 +73,8 @@ bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
       if (blk.kind != BlockKind::Bilateral) post += ws.P[i] * u_new;
     }
   }
-  double k_free = 0;
-  for (int b = 0; b < ws.nbodies; ++b) {
-    const Eigen::Vector3d v = ws.vfree.segment<3>(6 * b), w = ws.vfree.segment<3>(6 * b + 3);
-    k_free += 0.5 * (m.bodies[b].mass * v.squaredNorm() + w.dot(m.bodies[b].inertia * w));
-  }
   const double phi = post - 0.5 * wpp;
-  return std::isfinite(phi) && phi > 1e-12 * k_free + 1e-300;
+  return std::isfinite(phi) && phi > 1e-12 * kineticEnergyOf(m, ws, ws.vfree) + 1e-300;
 }
 
 bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out) {
@@ -304,6 +309,14 @@ StepStatus Simulator::step() {
         }
       }
     }
+    // Takes the Newton impact shift back out of b: the plastic problem.
+    const auto removeRestitution = [&] {
+      for (const ConstraintBlock& blk : ws.blocks) {
+        if (blk.kind == BlockKind::Bilateral) continue;
+        const double un_k = G.row(blk.row).dot(ws.vk);
+        if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
+      }
+    };
     SolverOptions o = opt;
     SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
@@ -321,11 +334,7 @@ StepStatus Simulator::step() {
       // Newton's law at several coupled frictional points can add kinetic energy
       // (it is only proven dissipative for one point). The impact is then taken
       // as plastic (e = 0), which cannot gain; see restitutionGainsEnergy.
-      for (const ConstraintBlock& blk : ws.blocks) {
-        if (blk.kind == BlockKind::Bilateral) continue;
-        const double un_k = G.row(blk.row).dot(ws.vk);
-        if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
-      }
+      removeRestitution();
       rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
       ws.vnew = ws.vfree;
       ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
@@ -337,11 +346,7 @@ StepStatus Simulator::step() {
       // iterate can drive bodies through each other, so this step is taken
       // frictionless and plastic: a convex problem, always solvable. The
       // problem blocks are rebuilt by the next assembly.
-      for (const ConstraintBlock& blk : ws.blocks) {
-        if (blk.kind == BlockKind::Bilateral || plastic) continue;
-        const double un_k = G.row(blk.row).dot(ws.vk);
-        if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
-      }
+      if (!plastic) removeRestitution();
       for (ProblemBlock& pb : ws.problem) pb.mu = 0;
       const SolverReport rep0 =
           ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
@@ -364,12 +369,8 @@ StepStatus Simulator::step() {
         pu += ws.P[i] * G.row(i).dot(ws.vfree);
         pwp += ws.P[i] * G.row(i).dot(ws.vnew - ws.vfree);
       }
-      double k_free = 0;
-      for (int bb = 0; bb < ws.nbodies; ++bb) {
-        const Eigen::Vector3d v = ws.vfree.segment<3>(6 * bb), w = ws.vfree.segment<3>(6 * bb + 3);
-        k_free += 0.5 * (m.bodies[bb].mass * v.squaredNorm() + w.dot(m.bodies[bb].inertia * w));
-      }
-      if (std::isfinite(pu) && std::isfinite(pwp) && pu + 0.5 * pwp > 1e-12 * k_free) {
+      if (std::isfinite(pu) && std::isfinite(pwp) &&
+          pu + 0.5 * pwp > 1e-12 * kineticEnergyOf(m, ws, ws.vfree)) {
         const double a = pwp > 0 ? std::min(1.0, std::max(0.0, -pu / pwp)) : 0.0;
         ws.P.head(r) *= a;
         ws.vnew = ws.vfree;
