@@ -67,7 +67,9 @@ scene. Measured with the engine of 2026-11-22 (late activation, projection facet
 - **x0.2 (9-17 um; S3 1.2 um)** is the smallest scale that runs without penetration
   (1 nm), and its trip is clean. Its bench force chatters, though: +-0.2 N with spikes, at
   300 solver sweeps per step. Its "hysteresis" is noise, not a result.
-- **x0.5** is the smallest scale where both runs are clean.
+- **x0.5** is the smallest scale where both runs are clean. Its bench equilibrium force is
+  not unique, though: engine builds that differ only in round-off gave 15.28, 15.54 and
+  15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
 
 The engine issue is reported in docs/c60.md.
 
