@@ -150,7 +150,7 @@ struct Settings {
   int max_iterations = 200;         // solver sweeps
   bool projection = true;           // combined projection after each step
   double projection_tolerance = 1e-9;  // m (and rad for orientation rows)
-  int projection_max_iterations = 20;
+  int projection_max_iterations = 100;  // passes; backtracking keeps extra passes from diverging
   double activation_gamma = 0.5;    // predicted gap g + gamma h u_N
   // Extra distance (m) under which a candidate contact enters the solver even if
   // it cannot close within the step. 0 (default) skips every contact that cannot
