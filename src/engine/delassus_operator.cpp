@@ -7,14 +7,14 @@
 
 namespace nscd {
 
-void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int r) {
+void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r) {
   // Bodies of each row (kGround = none).
   for (const ConstraintBlock& blk : ws.blocks) {
     const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
     for (int k = 0; k < blk.size; ++k) ws.row_bodies[blk.row + k] = {blk.body_a, b};
   }
   const int n = ws.n;
-  for (int i = 0; i < r; ++i) {
+  for (int i = from; i < r; ++i) {
     auto y = ws.Y.col(i).head(n);
     y.setZero();
     for (int body : ws.row_bodies[i]) {
@@ -22,7 +22,7 @@ void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int r) {
       y.noalias() += Minv.middleCols<6>(6 * body) * ws.G.row(i).segment<6>(6 * body).transpose();
     }
   }
-  for (int i = 0; i < r; ++i) {
+  for (int i = from; i < r; ++i) {
     const std::array<int, 2>& bi = ws.row_bodies[i];
     for (int j = 0; j <= i; ++j) {
       double w = 0;

@@ -82,7 +82,7 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
       else
         ws.b[blk.row] = blk.cp.gap;
     }
-    assembleDelassus(ws.Mproj, ws, r);
+    assembleDelassus(ws.Mproj, ws, 0, r);
     ws.P.head(r).setZero();
     ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);

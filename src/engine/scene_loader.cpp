@@ -12,6 +12,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -22,6 +23,7 @@
 #include "nscd_sim/clearance_geometry.hpp"
 #include "nscd_sim/contact_geometry.hpp"
 #include "nscd_sim/scene_loader.hpp"
+#include "number_text.hpp"
 
 namespace nscd {
 namespace {
@@ -55,25 +57,6 @@ std::string squote(const std::string& s) { return "'" + s + "'"; }
 
 // --------------------------------------------------------------- attributes
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
-// Locale-independent whole-string parse; false when s is not a number.
-bool parseNumber(const std::string& in, double& out) {
-  std::string s = trim(in);
-  if (!s.empty() && s[0] == '+') s.erase(0, 1);
-  if (s.empty()) return false;
-  auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-  if (r.ptr != s.data() + s.size()) return false;
-  if (r.ec == std::errc::result_out_of_range) out = HUGE_VAL;  // refused as not finite
-  else if (r.ec != std::errc()) return false;
-  return true;
-}
-
 double toNumber(const Ctx& c, const XMLElement* e, const char* name, const std::string& v) {
   double x = 0;
   if (!parseNumber(v, x) || std::isnan(x))
@@ -85,30 +68,34 @@ double toNumber(const Ctx& c, const XMLElement* e, const char* name, const std::
   return x;
 }
 
+bool isAllowed(const char* name, std::initializer_list<const char*> allowed) {
+  for (const char* n : allowed)
+    if (std::strcmp(n, name) == 0) return true;
+  return false;
+}
+
+// " (allowed: a, b)" with each name wrapped as pre + name + post, or " (it takes none)".
+std::string allowedList(std::initializer_list<const char*> allowed, const char* pre,
+                        const char* post) {
+  std::string list;
+  for (const char* n : allowed) list += (list.empty() ? "" : ", ") + std::string(pre) + n + post;
+  return list.empty() ? " (it takes none)" : " (allowed: " + list + ")";
+}
+
 // Every attribute of e must be in `allowed`.
 void checkAttributes(const Ctx& c, const XMLElement* e, std::initializer_list<const char*> allowed) {
-  for (const XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
-    bool ok = false;
-    for (const char* n : allowed) ok = ok || std::string(n) == a->Name();
-    if (ok) continue;
-    std::string list;
-    for (const char* n : allowed) list += (list.empty() ? "" : ", ") + std::string(n);
-    c.fail(e->GetLineNum(), std::string("unknown attribute '") + a->Name() + "' on " + tag(e) +
-                                (list.empty() ? " (it takes none)" : " (allowed: " + list + ")"));
-  }
+  for (const XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
+    if (!isAllowed(a->Name(), allowed))
+      c.fail(e->GetLineNum(), std::string("unknown attribute '") + a->Name() + "' on " + tag(e) +
+                                  allowedList(allowed, "", ""));
 }
 
 // Every child element of e must be named in `allowed`.
 void checkChildren(const Ctx& c, const XMLElement* e, std::initializer_list<const char*> allowed) {
-  for (const XMLElement* ch = e->FirstChildElement(); ch; ch = ch->NextSiblingElement()) {
-    bool ok = false;
-    for (const char* n : allowed) ok = ok || std::string(n) == ch->Name();
-    if (ok) continue;
-    std::string list;
-    for (const char* n : allowed) list += (list.empty() ? "" : ", ") + std::string("<") + n + ">";
-    c.fail(ch->GetLineNum(), "unknown element " + tag(ch) + " in " + tag(e) +
-                                 (list.empty() ? " (it takes none)" : " (allowed: " + list + ")"));
-  }
+  for (const XMLElement* ch = e->FirstChildElement(); ch; ch = ch->NextSiblingElement())
+    if (!isAllowed(ch->Name(), allowed))
+      c.fail(ch->GetLineNum(), "unknown element " + tag(ch) + " in " + tag(e) +
+                                   allowedList(allowed, "<", ">"));
 }
 
 bool has(const XMLElement* e, const char* name) { return e->Attribute(name) != nullptr; }

@@ -11,32 +11,14 @@
 #include <sstream>
 
 #include "nscd_sim/scene_loader.hpp"
+#include "number_text.hpp"
 
 namespace nscd {
 namespace {
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
-}
-
-// Locale-independent, whole-string parse. Returns false when s is not a number.
-bool parseNumber(const std::string& in, double& out) {
-  std::string s = trim(in);
-  if (!s.empty() && s[0] == '+') s.erase(0, 1);
-  if (s.empty()) return false;
-  auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-  if (r.ptr != s.data() + s.size()) return false;
-  if (r.ec == std::errc::result_out_of_range) out = HUGE_VAL;  // finiteness check refuses it
-  else if (r.ec != std::errc()) return false;
-  return true;
 }
 
 struct Bad {

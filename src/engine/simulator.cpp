@@ -271,7 +271,7 @@ StepStatus Simulator::step() {
   const auto assembleAndSolve = [&](int kept) {
     const int r = ws.rows;
     auto G = ws.G.topRows(r);
-    assembleDelassus(ws.Minv, ws, r);
+    assembleDelassus(ws.Minv, ws, kept, r);  // rows below `kept` are already there
     ws.b.head(r).noalias() = G * ws.vfree;
     ws.problem.clear();
     st.active_contacts = 0;
@@ -317,6 +317,11 @@ StepStatus Simulator::step() {
         if (un_k < 0) ws.b[blk.row] -= blk.e * un_k;
       }
     };
+    // v+ = v_free + Ŵ Gᵀ P
+    const auto applyImpulses = [&] {
+      ws.vnew = ws.vfree;
+      ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+    };
     SolverOptions o = opt;
     SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
@@ -327,8 +332,7 @@ StepStatus Simulator::step() {
       o.method = SolverMethod::NSGS;
       rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
     }
-    ws.vnew = ws.vfree;
-    ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+    applyImpulses();
     bool plastic = false;
     if (st.active_contacts > 0 && restitutionGainsEnergy(m, ws, r)) {
       // Newton's law at several coupled frictional points can add kinetic energy
@@ -336,8 +340,7 @@ StepStatus Simulator::step() {
       // as plastic (e = 0), which cannot gain; see restitutionGainsEnergy.
       removeRestitution();
       rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
-      ws.vnew = ws.vfree;
-      ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+      applyImpulses();
       plastic = st.plastic_fallback = true;
     }
     if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual) && st.active_contacts > 0) {
@@ -354,8 +357,7 @@ StepStatus Simulator::step() {
         rep.iterations += rep0.iterations;
         rep.residual = rep0.residual;
         rep.converged = false;  // the step's own problem stays unsolved: reported
-        ws.vnew = ws.vfree;
-        ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+        applyImpulses();
         st.frictionless_fallback = true;
       }
     }
@@ -373,8 +375,7 @@ StepStatus Simulator::step() {
           pu + 0.5 * pwp > 1e-12 * kineticEnergyOf(m, ws, ws.vfree)) {
         const double a = pwp > 0 ? std::min(1.0, std::max(0.0, -pu / pwp)) : 0.0;
         ws.P.head(r) *= a;
-        ws.vnew = ws.vfree;
-        ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+        applyImpulses();
         st.energy_capped = true;
       }
     }

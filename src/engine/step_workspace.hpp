@@ -133,7 +133,9 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
 // solved velocity ws.vnew (g + h u_N(v_new) <= 0): appended as new blocks.
 // Returns how many.
 // Y = Minv G^T and W = G Y for rows [0, r), from the two bodies of each row.
-void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int r);
+// Columns of Y and rows/columns of W below `from` are kept as they are (rows
+// appended to a problem already assembled).
+void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r);
 int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws);
 void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
 
