@@ -90,6 +90,8 @@ Trace runTrace(const Scene& s, double h, double tol) {
     std::vector<int> act;
     for (const nscd::CommandSchedule& c : s.commands) act.push_back(sim.model().findActuator(c.actuator));
     const int nb = static_cast<int>(sim.model().bodies.size());
+    tr.pos.reserve(static_cast<size_t>(std::max(0L, samples) + 1) * nb * 3);  // no allocation while timed
+    tr.force.reserve(static_cast<size_t>(std::max(0L, samples)));
     auto record = [&] {
       for (int b = 0; b < nb; ++b)
         for (int i = 0; i < 3; ++i) tr.pos.push_back(sim.state().bodies[b].x[i]);

@@ -55,9 +55,6 @@ struct RunResult {
   std::string error;           // non-empty if the run failed
 };
 
-// CPU time of the calling thread, s.
-double threadCpuSeconds();
-
 RunResult runBallNscd(const BallParams& p, const RunOptions& o);
 RunResult runPendulumNscd(const PendulumParams& p, const RunOptions& o);
 RunResult runBallSiconos(const BallParams& p, const RunOptions& o);

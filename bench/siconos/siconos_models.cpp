@@ -7,10 +7,10 @@
 #include <SolverOptions.h>
 #include <mlcp_cst.h>
 
-#include <chrono>
 #include <cmath>
 
 #include "models.hpp"
+#include "run_loop.hpp"
 
 namespace nscd_siconos {
 
@@ -75,38 +75,47 @@ SP::SiconosVector vec(std::initializer_list<double> v) {
   return x;
 }
 
-// A time stepping for `nsds` with the scheme and solver settings of `o`.
-SP::TimeStepping makeSimulation(SP::NonSmoothDynamicalSystem nsds, const RunOptions& o, int dim) {
+// The system of one body `ds` and one interaction (`law`, `rel`) on [0, T], and its
+// time stepping (scheme and solver settings of `o`), initialised.
+SP::TimeStepping makeSimulation(SP::DynamicalSystem ds, SP::NonSmoothLaw law, SP::Relation rel,
+                                double T, const RunOptions& o, int dim) {
+  SP::Interaction inter(new Interaction(law, rel));
+  SP::NonSmoothDynamicalSystem nsds(new NonSmoothDynamicalSystem(0, T));
+  nsds->insertDynamicalSystem(ds);
+  nsds->link(inter, ds);
   SP::TimeDiscretisation td(new TimeDiscretisation(0, o.h));
   SP::FrictionContact fc(new FrictionContact(
       dim, dim == 2 ? SICONOS_FRICTION_2D_NSGS : SICONOS_FRICTION_3D_NSGS));
   fc->numericsSolverOptions()->dparam[SICONOS_DPARAM_TOL] = o.tolerance;
   fc->numericsSolverOptions()->iparam[SICONOS_IPARAM_MAX_ITER] = o.max_iterations;
+  SP::TimeStepping s;
   if (o.scheme == Scheme::MoreauJean) {
     SP::MoreauJeanOSI osi(new MoreauJeanOSI(0.5));
-    SP::TimeStepping s(new TimeStepping(nsds, td, osi, fc));
-    if (!o.siconos_newton) s->setNewtonOptions(SICONOS_TS_LINEAR);
-    return s;
+    s.reset(new TimeStepping(nsds, td, osi, fc));
+  } else {
+    SP::MoreauJeanCombinedProjectionOSI osi(new MoreauJeanCombinedProjectionOSI(0.5));
+    SP::MLCPProjectOnConstraints pos(new MLCPProjectOnConstraints(SICONOS_MLCP_ENUM, 1.0));
+    SP::TimeSteppingCombinedProjection cp(
+        new TimeSteppingCombinedProjection(nsds, td, osi, fc, pos, 2));
+    cp->setConstraintTol(1e-9);
+    cp->setConstraintTolUnilateral(1e-9);
+    cp->setProjectionMaxIteration(20);
+    s = cp;
   }
-  SP::MoreauJeanCombinedProjectionOSI osi(new MoreauJeanCombinedProjectionOSI(0.5));
-  SP::MLCPProjectOnConstraints pos(new MLCPProjectOnConstraints(SICONOS_MLCP_ENUM, 1.0));
-  SP::TimeSteppingCombinedProjection s(
-      new TimeSteppingCombinedProjection(nsds, td, osi, fc, pos, 2));
-  s->setConstraintTol(1e-9);
-  s->setConstraintTolUnilateral(1e-9);
-  s->setProjectionMaxIteration(20);
   if (!o.siconos_newton) s->setNewtonOptions(SICONOS_TS_LINEAR);
+  s->initialize();
   return s;
 }
 
-long stepsOf(double T, double h) { return std::lround(T / h); }
-long sampleEvery(const RunOptions& o) { return std::max(1L, std::lround(o.sample_dt / o.h)); }
+void step(TimeStepping& s) {
+  s.computeOneStep();
+  s.nextStep();
+}
 
 }  // namespace
 
 RunResult runBallSiconos(const BallParams& p, const RunOptions& o) {
-  RunResult res;
-  try {
+  return guardedRun([&](RunResult& res) {
     // q = (x, y, z, phi_x, phi_y, phi_z) with world-frame rotation rates: exact for a
     // sphere of isotropic inertia, whose orientation enters nothing here.
     const double I = 0.4 * p.m * p.r * p.r;
@@ -129,49 +138,23 @@ RunResult runBallSiconos(const BallParams& p, const RunOptions& o) {
     (*H)(2, 3) = p.r;
     SP::Relation rel(new LagrangianLinearTIR(H, vec({-p.r, 0, 0})));
     SP::NonSmoothLaw law(new NewtonImpactFrictionNSL(p.e, 0.0, p.mu, 3));
-    SP::Interaction inter(new Interaction(law, rel));
-    SP::NonSmoothDynamicalSystem nsds(new NonSmoothDynamicalSystem(0, p.T));
-    nsds->insertDynamicalSystem(ball);
-    nsds->link(inter, ball);
-    SP::TimeStepping s = makeSimulation(nsds, o, 3);
-    s->initialize();
+    SP::TimeStepping s = makeSimulation(ball, law, rel, p.T, o, 3);
 
-    const long n = stepsOf(p.T, o.h), every = sampleEvery(o);
-    res.t.reserve(n / every + 2);
-    res.a.reserve(n / every + 2);
-    res.b.reserve(n / every + 2);
     const SiconosVector& q = *ball->q();
     const SiconosVector& v = *ball->velocity();
-    auto record = [&](long k) {
-      res.t.push_back(k * o.h);
-      res.a.push_back(q.getValue(2) - p.r);
-      res.b.push_back(q.getValue(0));
-      res.max_penetration = std::max(res.max_penetration, p.r - q.getValue(2));
-    };
-    record(0);
-    double prev_vz = 0;
-    const double cpu0 = threadCpuSeconds();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long k = 1; k <= n; ++k) {
-      s->computeOneStep();
-      s->nextStep();
-      const double vz = v.getValue(2);
-      if (prev_vz > 0 && vz <= 0) res.apex.push_back(q.getValue(2) - p.r + vz * vz / (2 * p.g));
-      prev_vz = vz;
-      if (k % every == 0) record(k);
-    }
-    res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    res.cpu_seconds = threadCpuSeconds() - cpu0;
-    res.steps = n;
-  } catch (const std::exception& ex) {
-    res.error = ex.what();
-  }
-  return res;
+    ApexDetector apex(p.g);
+    runSampled(
+        res, p.T, o,
+        [&] {
+          step(*s);
+          apex.update(q.getValue(2) - p.r, v.getValue(2), res.apex);
+        },
+        [&] { return Sample{q.getValue(2) - p.r, q.getValue(0), p.r - q.getValue(2)}; });
+  });
 }
 
 RunResult runPendulumSiconos(const PendulumParams& p, const RunOptions& o) {
-  RunResult res;
-  try {
+  return guardedRun([&](RunResult& res) {
     SP::SimpleMatrix M(new SimpleMatrix(3, 3));
     M->zero();
     (*M)(0, 0) = p.m;
@@ -184,42 +167,18 @@ RunResult runPendulumSiconos(const PendulumParams& p, const RunOptions& o) {
     arm->setFExtPtr(vec({0, -p.m * p.g, 0}));
     SP::Relation rel(new PinInHoleR(p.l, p.rj, p.cr));
     SP::NonSmoothLaw law(new NewtonImpactFrictionNSL(0.0, 0.0, p.mu, 2));
-    SP::Interaction inter(new Interaction(law, rel));
-    SP::NonSmoothDynamicalSystem nsds(new NonSmoothDynamicalSystem(0, p.T));
-    nsds->insertDynamicalSystem(arm);
-    nsds->link(inter, arm);
-    SP::TimeStepping s = makeSimulation(nsds, o, 2);
-    s->initialize();
+    SP::TimeStepping s = makeSimulation(arm, law, rel, p.T, o, 2);
 
-    const long n = stepsOf(p.T, o.h), every = sampleEvery(o);
-    res.t.reserve(n / every + 2);
-    res.a.reserve(n / every + 2);
-    res.b.reserve(n / every + 2);
     const SiconosVector& q = *arm->q();
-    auto record = [&](long k) {
-      const double th = q.getValue(2);
-      const double px = q.getValue(0) - p.l * std::sin(th), py = q.getValue(1) + p.l * std::cos(th);
-      const double ecc = std::hypot(px, py);
-      res.t.push_back(k * o.h);
-      res.a.push_back(th);
-      res.b.push_back(ecc / p.cr);
-      res.max_penetration = std::max(res.max_penetration, ecc - p.cr);
-    };
-    record(0);
-    const double cpu0 = threadCpuSeconds();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long k = 1; k <= n; ++k) {
-      s->computeOneStep();
-      s->nextStep();
-      if (k % every == 0) record(k);
-    }
-    res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    res.cpu_seconds = threadCpuSeconds() - cpu0;
-    res.steps = n;
-  } catch (const std::exception& ex) {
-    res.error = ex.what();
-  }
-  return res;
+    runSampled(
+        res, p.T, o, [&] { step(*s); },
+        [&] {
+          const double th = q.getValue(2);
+          const double px = q.getValue(0) - p.l * std::sin(th), py = q.getValue(1) + p.l * std::cos(th);
+          const double ecc = std::hypot(px, py);
+          return Sample{th, ecc / p.cr, ecc - p.cr};
+        });
+  });
 }
 
 }  // namespace nscd_siconos
