@@ -75,7 +75,18 @@ double yaw(const Csv& c, size_t row, const std::string& b) {
   return std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
 }
 
-std::string tmpCsv(const std::string& tag) { return "/tmp/nscd_test_c60_" + tag + ".csv"; }
+// Runs nscd_run --quiet on the scene `scene` (relative to the package) with
+// `args`, writing its CSV to a temporary file named after `tag`; asserts that
+// it exits with 0, expects its maximum penetration below kMaxPenetration, and
+// reads the CSV into `out` (the file is removed).
+void runToCsv(const std::string& scene, const std::string& args, const std::string& tag, Csv& out) {
+  const std::string csv = "/tmp/nscd_test_c60_" + tag + ".csv";
+  const auto r = runNscd(scenePath(scene) + " " + args + " --quiet --csv " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_LT(jsonNumber(r.out, "max_penetration"), kMaxPenetration);
+  out = readCsv(csv);
+  std::remove(csv.c_str());
+}
 
 }  // namespace
 
@@ -83,11 +94,8 @@ std::string tmpCsv(const std::string& tag) { return "/tmp/nscd_test_c60_" + tag 
 // ~4 ms), then rests latched: latch and main contact closed with the documented forces,
 // no motion between 5 and 7 ms. Full 3D model.
 TEST(C60, RestsLatchedInOn) {
-  const std::string csv = tmpCsv("rest");
-  const auto r = runNscd(scenePath("urdf/c60.urdf") + " --duration 0.007 --every 10 --quiet --csv " + csv);
-  ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_LT(jsonNumber(r.out, "max_penetration"), kMaxPenetration);
-  const Csv c = readCsv(csv);
+  Csv c;
+  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60.urdf", "--duration 0.007 --every 10", "rest", c));
   ASSERT_GE(c.rows.size(), 70u);
   const size_t end = c.rows.size() - 1, mid = end - 20;  // t = 5 ms and 7 ms
   EXPECT_LT(c.at(end, "C4.gap"), 1e-6);  // latched
@@ -108,20 +116,17 @@ TEST(C60, RestsLatchedInOn) {
   // (within the J7 friction torque, mu N r = 0.1 x 14 N x 1 mm).
   const double p3 = std::abs(c.at(end, "P3_contact.force"));
   EXPECT_NEAR(p3, c.at(end, "C7.fn") * 0.01986, 0.1 * 14.0 * 1e-3 + 0.01 * p3);
-  std::remove(csv.c_str());
 }
 
 // Trip: probe at 0.2 m/s from 0.7 ms. It touches the bar after the ~0.35 mm the settling
 // opened, pushes it (quasi-static force 5-12 N), the latch releases and C7 opens in the
 // documented window (7.46 ms).
 TEST(C60, TripOpensContactsInWindow) {
-  const std::string csv = tmpCsv("trip");
-  const auto r = runNscd(scenePath("urdf/c60.urdf") +
-                         " --duration 0.0095 --every 2 --quiet --command "
-                         "probe=0:0,0.0007:0,0.0207:0.004 --csv " + csv);
-  ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_LT(jsonNumber(r.out, "max_penetration"), kMaxPenetration);
-  const Csv c = readCsv(csv);
+  Csv c;
+  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60.urdf",
+                                   "--duration 0.0095 --every 2 --command "
+                                   "probe=0:0,0.0007:0,0.0207:0.004",
+                                   "trip", c));
   ASSERT_GT(c.rows.size(), 100u);
   double t_open = NAN, f_peak = 0, t_touch = NAN;
   bool closed_at_5ms = false;
@@ -139,20 +144,17 @@ TEST(C60, TripOpensContactsInWindow) {
   EXPECT_GT(t_open, 6.5e-3);
   EXPECT_LT(t_open, 8.5e-3);
   EXPECT_GT(c.at(c.rows.size() - 1, "C7.gap"), 3e-3);  // well open at 9.5 ms
-  std::remove(csv.c_str());
 }
 
 // Contact-force bench, coarse (8 ms strokes): force held at 2.0 mm within 0.6 N of the
 // paper's 15.28 N (the calibrated value; docs/c60.md), backward below forward by the joint
 // friction (documented 0.14 N).
 TEST(C60, BenchForceAndHysteresis) {
-  const std::string csv = tmpCsv("bench");
-  const auto r = runNscd(scenePath("urdf/c60_bench.urdf") +
-                         " --duration 0.025 --every 2 --quiet --command "
-                         "table=0:0,0.004:0,0.012:0.002,0.015:0.002,0.023:0,0.025:0 --csv " + csv);
-  ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_LT(jsonNumber(r.out, "max_penetration"), kMaxPenetration);
-  const Csv c = readCsv(csv);
+  Csv c;
+  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60_bench.urdf",
+                                   "--duration 0.025 --every 2 --command "
+                                   "table=0:0,0.004:0,0.012:0.002,0.015:0.002,0.023:0,0.025:0",
+                                   "bench", c));
   ASSERT_GT(c.rows.size(), 1000u);
   double f_hold = 0;
   int n_hold = 0;
@@ -186,5 +188,4 @@ TEST(C60, BenchForceAndHysteresis) {
   // The contact force grows with travel (P3 winds up): ~0.95 N/mm.
   EXPECT_GT(meanAt1mm(fwd), 13.5);
   EXPECT_LT(meanAt1mm(fwd), f_hold);
-  std::remove(csv.c_str());
 }

@@ -6,9 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
-#include <new>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -16,18 +14,9 @@
 #include <vector>
 
 #include "nscd_sim/clearance_geometry.hpp"
+#include "test_support.hpp"
 
 using namespace nscd;
-
-// Counts heap allocations, to check that the geometry allocates nothing.
-static std::atomic<long> g_allocations{0};
-__attribute__((noinline)) void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
-__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -100,17 +89,25 @@ double bruteGap(const Ring& r, double* phi_out = nullptr) {
   return best - r.rj;
 }
 
+// Draws, in this order, the journal radius rj (log-uniform in [1e-3, 1e-2]),
+// the radial clearance cr = R - rj (log-uniform in [cr_min, 1e-3]) and the
+// ring normal n (uniform); sets e1 = anyOrthogonal(n). Returns cr.
+double drawRingSize(std::mt19937_64& rng, double cr_min, Ring& r) {
+  r.rj = logUni(rng, 1e-3, 1e-2);
+  const double cr = logUni(rng, cr_min, 1e-3);
+  r.R = r.rj + cr;
+  r.n = randUnit(rng);
+  r.e1 = anyOrthogonal(r.n);
+  return cr;
+}
+
 // A random ring around a journal: rj in [1e-3, 1e-2], R - rj in [1e-6, 1e-3],
 // tilt up to 2 sqrt(cr/R) (the ring then dips about cr into the journal),
 // axis offset up to 1.5 cr, a random ring frame, centres anywhere in 10 cm.
 // `concentric`: offset below 1e-9 m (the minimiser is then ill-defined).
 Ring randomRing(std::mt19937_64& rng, bool concentric) {
   Ring r;
-  r.rj = logUni(rng, 1e-3, 1e-2);
-  const double cr = logUni(rng, 1e-6, 1e-3);
-  r.R = r.rj + cr;
-  r.n = randUnit(rng);
-  r.e1 = anyOrthogonal(r.n);
+  const double cr = drawRingSize(rng, 1e-6, r);
   r.e1 = Quat(Eigen::AngleAxisd(uni(rng, 0, 2 * kPi), r.n)) * r.e1;
   r.c = randVec(rng, 0.05);
   const double tilt = std::min(0.5, uni(rng, 0, 2 * std::sqrt(cr / r.R)));
@@ -299,11 +296,7 @@ TEST(RingJournal, NormalAndPointsMatchFiniteDifferences) {
     // Well-defined minimiser: offset 0.3..1.5 cr, second harmonic (R tilt^2)
     // well below the first (|e|), clearance >= 3e-5 m.
     Ring r;
-    r.rj = logUni(rng, 1e-3, 1e-2);
-    const double cr = logUni(rng, 3e-5, 1e-3);
-    r.R = r.rj + cr;
-    r.n = randUnit(rng);
-    r.e1 = anyOrthogonal(r.n);
+    const double cr = drawRingSize(rng, 3e-5, r);
     r.c = randVec(rng, 0.05);
     const double off = uni(rng, 0.3, 1.5) * cr;
     const double tilt = uni(rng, 0, 0.3 * std::sqrt(off / r.R));
@@ -586,15 +579,15 @@ TEST(Clearance, AllocatesNothing) {
   for (int i = 0; i < 4; ++i) rings[i] = randomRing(rng, i == 0);
   ContactPoint out[kMaxClearancePoints];
   double phi[2] = {kNaN, kNaN}, sum = 0;
-  const long before = g_allocations.load();
+  const long before = nscd_test::allocationCount();
   for (int i = 0; i < 4; ++i) {
     sum += clearanceContacts(cj, bearing, poses[i], 1.0, false, phi, out);
     sum += clearanceContacts(cj, bearing, poses[i], 1.0, true, phi, out);
     double p = kNaN;
     sum += call(rings[i], p).gap;
   }
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(nscd_test::allocationCount(), before);
   std::vector<int> v(10);  // the counter itself works
-  EXPECT_GT(g_allocations.load(), before);
+  EXPECT_GT(nscd_test::allocationCount(), before);
   EXPECT_TRUE(std::isfinite(sum));
 }

@@ -51,8 +51,15 @@ TEST(ClearanceJoint, SleeveRestsOnPin) {
   ringForces(sim, f0, f1);
   EXPECT_NEAR(f0, 0.5 * m * g, 0.01 * m * g);
   EXPECT_NEAR(f1, 0.5 * m * g, 0.01 * m * g);
-  // Polarisation: the journal sits at the top of the bore, so the eccentricity of the
-  // journal axis relative to the bearing points up (+z) in world.
+  // Polarisation: the pin (journal) bears on the top of the bore, so every loaded ring
+  // contact's normal (from the journal axis to the ring point) points up (+z).
+  int loaded = 0;
+  for (const ContactReport& c : sim.contacts()) {
+    if (!c.clearance || c.fn <= 0) continue;
+    ++loaded;
+    EXPECT_GT(c.normal.z(), 0.999) << c.normal.transpose();
+  }
+  EXPECT_EQ(loaded, 2);
   EXPECT_LT(sim.stats().max_penetration, 0.01 * cr);
 }
 

@@ -1,7 +1,6 @@
 // Tests of the friction-contact solver: the exact 3x3 Coulomb local solver and
 // NSGS over blocks, each against a closed-form answer or Coulomb's law itself.
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -205,33 +204,25 @@ TEST(LocalSolver, NonFiniteInputReportsFailure) {
   EXPECT_TRUE(P.allFinite());
 }
 
-TEST(LocalSolver, Timing) {
+// The three problems of the local-solver benchmark (bench/bench_steps.cpp,
+// BM_LocalSolver) have known answers: sticking at P = (1, 0.1, 0.1), and sliding
+// at P = e_N - mu (0, 0.6, 0.8) with slip (0, 1.2, 1.6); cold and warm starts.
+TEST(LocalSolver, BenchmarkProblemsAreSolved) {
   std::mt19937 rng(5);
   const Matrix3d W = randomSpd3(rng, 10, 1);
   const double mu = 0.4;
-  const Vector3d bStick = -W * Vector3d(1, 0.1, 0.1);
+  const Vector3d Pstick(1, 0.1, 0.1);
+  const Vector3d bStick = -W * Pstick;
   const Vector3d Pslide = 1.0 * (Vector3d::UnitX() - mu * Vector3d(0, 0.6, 0.8));
   const Vector3d bSlide = Vector3d(0, 1.2, 1.6) - W * Pslide;
-  // CPU time, best of 7 repetitions: the machine is shared, the minimum is the cost.
-  const auto time = [&](const Vector3d& b, bool warm) {
-    const int n = 4000;
-    double bestNs = INFINITY, sink = 0;
-    for (int rep = 0; rep < 7; ++rep) {
-      Vector3d P = Vector3d::Zero();
-      const std::clock_t t0 = std::clock();
-      for (int i = 0; i < n; ++i) {
-        if (!warm) P.setZero();
-        solveLocalFrictional(W, b, mu, 1e-12, P);
-        sink += P(0);
-      }
-      const std::clock_t t1 = std::clock();
-      bestNs = std::min(bestNs, 1e9 * double(t1 - t0) / CLOCKS_PER_SEC / n);
-    }
-    EXPECT_GT(sink, 0);
-    return bestNs;
-  };
-  std::printf("[ figures  ] local solve: stick %.0f ns, slide cold %.0f ns, slide warm %.0f ns\n",
-              time(bStick, false), time(bSlide, false), time(bSlide, true));
+  Vector3d P = Vector3d::Zero();
+  solveLocalFrictional(W, bStick, mu, 1e-12, P);
+  EXPECT_LT(relErr(P, Pstick), 1e-9) << P.transpose();
+  P.setZero();
+  solveLocalFrictional(W, bSlide, mu, 1e-12, P);
+  EXPECT_LT(relErr(P, Pslide), 1e-9) << P.transpose();
+  solveLocalFrictional(W, bSlide, mu, 1e-12, P);  // warm: stays
+  EXPECT_LT(relErr(P, Pslide), 1e-9) << P.transpose();
 }
 
 // ---------------------------------------------------------------- NSGS / Newton
@@ -507,6 +498,23 @@ TEST(SolverError, MatchesHandComputation) {
 
 namespace {
 
+// A random mechanism with m constraint rows and ndof DOF: W = G M^-1 G^T and
+// b = G v_free, with G (m x ndof), A (ndof x ndof) and v_free drawn from g in
+// that order, and M = A A^T + ndof I.
+void randomMechanism(std::mt19937& rng, std::normal_distribution<double>& g, int m, int ndof,
+                     MatrixXd& W, VectorXd& b) {
+  MatrixXd G(m, ndof), A(ndof, ndof);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < ndof; ++j) G(i, j) = g(rng);
+  for (int i = 0; i < ndof; ++i)
+    for (int j = 0; j < ndof; ++j) A(i, j) = g(rng);
+  const MatrixXd M = A * A.transpose() + ndof * MatrixXd::Identity(ndof, ndof);
+  W = G * M.ldlt().solve(G.transpose());
+  VectorXd vfree(ndof);
+  for (int j = 0; j < ndof; ++j) vfree(j) = g(rng);
+  b = G * vfree;
+}
+
 // Random mechanisms: W = G M^-1 G^T, b = G v_free, 1-20 frictional contacts
 // (mu in [0, 1.2]) and 0-2 bilateral blocks of 1-6 rows. ndof(m) DOF.
 template <class Ndof>
@@ -533,16 +541,9 @@ void runRandomProblems(const char* name, unsigned seed, SolverMethod method, Ndo
       m += 3;
     }
     const int ndof = ndofOf(m, u(rng));
-    MatrixXd G(m, ndof), A(ndof, ndof);
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < ndof; ++j) G(i, j) = g(rng);
-    for (int i = 0; i < ndof; ++i)
-      for (int j = 0; j < ndof; ++j) A(i, j) = g(rng);
-    const MatrixXd M = A * A.transpose() + ndof * MatrixXd::Identity(ndof, ndof);
-    const MatrixXd W = G * M.ldlt().solve(G.transpose());
-    VectorXd vfree(ndof);
-    for (int j = 0; j < ndof; ++j) vfree(j) = g(rng);
-    const VectorXd b = G * vfree;
+    MatrixXd W;
+    VectorXd b;
+    randomMechanism(rng, g, m, ndof, W, b);
     VectorXd P = VectorXd::Zero(m);
     SolverOptions o;
     o.method = method;
@@ -793,16 +794,9 @@ TEST(Newton, HardHyperstaticProblems) {
       m += 3;
     }
     const int ndof = std::max(1, m / 2);
-    MatrixXd G(m, ndof), A(ndof, ndof);
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < ndof; ++j) G(i, j) = g(rng);
-    for (int i = 0; i < ndof; ++i)
-      for (int j = 0; j < ndof; ++j) A(i, j) = g(rng);
-    const MatrixXd M = A * A.transpose() + ndof * MatrixXd::Identity(ndof, ndof);
-    const MatrixXd W = G * M.ldlt().solve(G.transpose());
-    VectorXd vfree(ndof);
-    for (int j = 0; j < ndof; ++j) vfree(j) = g(rng);
-    const VectorXd b = G * vfree;
+    MatrixXd W;
+    VectorXd b;
+    randomMechanism(rng, g, m, ndof, W, b);
     SolverOptions o;
     o.tolerance = 1e-10;
     o.max_iterations = 200;

@@ -3,13 +3,28 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <new>
 #include <sstream>
 #include <stdexcept>
 
+// Counts heap allocations (nscd_test::allocationCount()). Out of line, so that
+// the compiler cannot see through the calls and drop an allocation.
+static std::atomic<long> g_allocations{0};
+__attribute__((noinline)) void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+__attribute__((noinline)) void operator delete(void* p) noexcept { std::free(p); }
+__attribute__((noinline)) void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
 namespace nscd_test {
+
+long allocationCount() { return g_allocations.load(); }
 
 std::string sourceDir() { return NSCD_SOURCE_DIR; }
 std::string scenePath(const std::string& rel) { return sourceDir() + "/" + rel; }

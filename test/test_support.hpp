@@ -17,6 +17,11 @@ struct RunResult {
 // Runs nscd_run with the given argument string (shell-quoted by the caller).
 RunResult runNscd(const std::string& args);
 
+// Heap allocations (global operator new calls) since the test program
+// started: test_support.cpp replaces operator new in every unit test with one
+// that counts, to check that code allocates nothing.
+long allocationCount();
+
 // Writes text to a fresh temporary file with the given suffix; returns its path.
 std::string writeTemp(const std::string& text, const std::string& suffix = ".urdf");
 

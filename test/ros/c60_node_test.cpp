@@ -107,14 +107,4 @@ TEST(C60Node, ProbeScheduleTripsTheBreaker) {
   EXPECT_LT(open->sim_time, 0.009);
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "c60_node_test");
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
-}
+int main(int argc, char** argv) { return nscd_test::runRosTestNode(argc, argv, "c60_node_test"); }

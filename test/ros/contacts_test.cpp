@@ -191,14 +191,4 @@ TEST(Contacts, NoMarkersWithoutContacts) {
   EXPECT_EQ(markers->markers[0].action, Marker::DELETEALL);
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "contacts_test");
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
-}
+int main(int argc, char** argv) { return nscd_test::runRosTestNode(argc, argv, "contacts_test"); }

@@ -57,6 +57,16 @@ void expectPoseEq(const geometry_msgs::Transform& t, const nscd::Pose& p, double
   EXPECT_NEAR(std::abs(dot), 1.0, tol);
 }
 
+// The first /diagnostics message whose node status has `level` (null after 5 s).
+diagnostic_msgs::DiagnosticArray::ConstPtr waitForDiagnosticLevel(uint8_t level) {
+  return nscd_test::waitForMessage<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics",
+      [level](const diagnostic_msgs::DiagnosticArray& m) {
+        return !m.status.empty() && m.status[0].level == level;
+      },
+      5.0);
+}
+
 bool setPaused(bool paused) {
   std_srvs::SetBool srv;
   srv.request.data = paused;
@@ -168,14 +178,8 @@ TEST(NodeBasics, FailedStepPausesUntilReset) {
   cmd.data = 1e308;
   ASSERT_TRUE(nscd_test::publishWhenConnected(pub, cmd));
 
-  using diagnostic_msgs::DiagnosticArray;
   using diagnostic_msgs::DiagnosticStatus;
-  auto error = nscd_test::waitForMessage<DiagnosticArray>(
-      "/diagnostics",
-      [](const DiagnosticArray& m) {
-        return !m.status.empty() && m.status[0].level == DiagnosticStatus::ERROR;
-      },
-      5.0);
+  auto error = waitForDiagnosticLevel(DiagnosticStatus::ERROR);
   ASSERT_TRUE(error);
   EXPECT_NE(error->status[0].message.find("step failed at t="), std::string::npos)
       << error->status[0].message;
@@ -188,12 +192,7 @@ TEST(NodeBasics, FailedStepPausesUntilReset) {
 
   std_srvs::Empty reset;
   ASSERT_TRUE(nscd_test::callService(nodeTopic("reset"), reset));
-  auto ok = nscd_test::waitForMessage<DiagnosticArray>(
-      "/diagnostics",
-      [](const DiagnosticArray& m) {
-        return !m.status.empty() && m.status[0].level == DiagnosticStatus::OK;
-      },
-      5.0);
+  auto ok = waitForDiagnosticLevel(DiagnosticStatus::OK);
   ASSERT_TRUE(ok);
   auto later = nscd_test::waitForMessage<nscd_sim::ContactArray>(
       nodeTopic("contacts"), [](const nscd_sim::ContactArray& m) { return m.sim_time > 0.2; },
@@ -203,15 +202,9 @@ TEST(NodeBasics, FailedStepPausesUntilReset) {
 }
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "node_basics_test");
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  g_tf = std::make_unique<tf2_ros::Buffer>();
-  tf2_ros::TransformListener listener(*g_tf);
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return nscd_test::runRosTestNode(argc, argv, "node_basics_test", [] {
+    g_tf = std::make_unique<tf2_ros::Buffer>();
+    tf2_ros::TransformListener listener(*g_tf);
+    return RUN_ALL_TESTS();
+  });
 }

@@ -2,7 +2,21 @@
 
 #include <cmath>
 
+#include <gtest/gtest.h>
+
 namespace nscd_test {
+
+int runRosTestNode(int argc, char** argv, const char* name, const std::function<int()>& run) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, name);
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int result = run ? run() : RUN_ALL_TESTS();
+  spinner.stop();
+  ros::shutdown();
+  return result;
+}
 
 const char* const kNode = "/nscd_sim_node";
 

@@ -11,6 +11,14 @@
 
 namespace nscd_test {
 
+// main() of a rostest test node: initialises gtest and ROS as node `name`,
+// keeps a NodeHandle and a 2-thread AsyncSpinner for the whole run, runs
+// `run` (default: RUN_ALL_TESTS(); a test node that needs objects alive
+// during its tests, as a tf listener, creates them in `run`), then shuts ROS
+// down. Returns the result of `run`.
+int runRosTestNode(int argc, char** argv, const char* name,
+                   const std::function<int()>& run = {});
+
 // The node under test (its name in the .test files).
 extern const char* const kNode;  // "/nscd_sim_node"
 std::string nodeTopic(const std::string& name);  // "/nscd_sim_node/<name>"

@@ -115,14 +115,4 @@ TEST(SimTime, DiagnosticsReportSolverStatistics) {
   ASSERT_TRUE(setPaused(false));
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "sim_time_test");
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
-}
+int main(int argc, char** argv) { return nscd_test::runRosTestNode(argc, argv, "sim_time_test"); }
