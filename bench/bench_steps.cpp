@@ -2,6 +2,8 @@
 // Times one warm step of small reference scenes, and whole nscd_run runs.
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Geometry>
+
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -154,6 +156,27 @@ void BM_FrictionlessContacts(benchmark::State& state) {
   state.counters["iterations"] = k ? double(iters) / k : 0.0;
 }
 BENCHMARK(BM_FrictionlessContacts)->Arg(0)->Arg(1)->ArgNames({"three_rows"})->Unit(benchmark::kMicrosecond);
+
+// The exact local 3x3 Coulomb solve (NSGS inner step): sticking, sliding from a
+// cold start, sliding from the answer (warm). Same problems as the test
+// LocalSolver.BenchmarkProblemsAreSolved, with a fixed W (condition number 10).
+void BM_LocalSolver(benchmark::State& state) {
+  const int kind = static_cast<int>(state.range(0));  // 0 stick, 1 slide cold, 2 slide warm
+  const Eigen::Matrix3d O =
+      Eigen::Quaterniond(0.3, -0.5, 0.7, 0.2).normalized().toRotationMatrix();
+  const Eigen::Matrix3d W = O * Eigen::Vector3d(1.0, 0.3, 0.1).asDiagonal() * O.transpose();
+  const double mu = 0.4;
+  const Eigen::Vector3d Pslide = Eigen::Vector3d::UnitX() - mu * Eigen::Vector3d(0, 0.6, 0.8);
+  const Eigen::Vector3d b = kind == 0 ? Eigen::Vector3d(-W * Eigen::Vector3d(1, 0.1, 0.1))
+                                      : Eigen::Vector3d(Eigen::Vector3d(0, 1.2, 1.6) - W * Pslide);
+  Eigen::Vector3d P = Eigen::Vector3d::Zero();
+  for (auto _ : state) {
+    if (kind != 2) P.setZero();
+    solveLocalFrictional(W, b, mu, 1e-12, P);
+    benchmark::DoNotOptimize(P.data());
+  }
+}
+BENCHMARK(BM_LocalSolver)->Arg(0)->Arg(1)->Arg(2)->ArgNames({"stick0_cold1_warm2"})->Unit(benchmark::kNanosecond);
 
 // "No projection pass when nothing is violated": the journal at rest with the
 // projection on (each step only measures the violation, below the tolerance, and
