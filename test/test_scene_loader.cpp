@@ -691,7 +691,11 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_DOUBLE_EQ(s.dt, 0.1);
   set("activation_margin", "1e-3");
   EXPECT_DOUBLE_EQ(s.activation_margin, 1e-3);
-  EXPECT_EQ(settingKeys().size(), 11u);
+  set("contact_prediction", "0");
+  EXPECT_DOUBLE_EQ(s.contact_prediction, 0.0);
+  set("contact_prediction", "0.5");
+  EXPECT_DOUBLE_EQ(s.contact_prediction, 0.5);
+  EXPECT_EQ(settingKeys().size(), 12u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {
@@ -701,7 +705,8 @@ TEST(Settings, ApplySettingRefusesBadValues) {
       {"tolerance", "-1e-8"}, {"tolerance", "0"}, {"tolerance", "1"},      {"max_iterations", "0"},
       {"max_iterations", "2.5"}, {"max_iterations", "20000000"}, {"projection", "maybe"},
       {"projection_tolerance", "0"}, {"projection_max_iterations", "-1"},
-      {"activation_gamma", "1.5"}, {"gravity", "0 0"}, {"gravity", "0 0 inf"}, {"planar", "xz"},
+      {"activation_gamma", "1.5"}, {"contact_prediction", "-0.1"}, {"contact_prediction", "1.5"},
+      {"contact_prediction", "nan"}, {"gravity", "0 0"}, {"gravity", "0 0 inf"}, {"planar", "xz"},
       {"no_such_key", "1"}};
   for (const auto& b : bad) {
     Settings s;

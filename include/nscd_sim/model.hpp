@@ -157,6 +157,12 @@ struct Settings {
   // close; a large value puts every candidate in the solver (it then acts as a
   // velocity-level constraint): a knob to measure what skipping saves.
   double activation_margin = 0;
+  // Where the rows (normal, points, Jacobian) of an active contact are built: at
+  // q_k + contact_prediction h v_k, the same feature as at q_k, as long as its
+  // normal turns by less than 0.1 rad in between (else at q_k). 1 (default): the
+  // end of the step predicted by v_k, as Siconos's time stepping does; 0: at q_k.
+  // Gaps and activation are always those of q_k.
+  double contact_prediction = 1;
   PlanarMode planar = PlanarMode::None;
 };
 

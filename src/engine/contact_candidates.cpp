@@ -40,7 +40,7 @@ double normalVelocity(const State& st, int ia, int ib, const ContactPoint& cp) {
 }  // namespace
 
 void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G) {
-  const Vec3 dirs[3] = {blk.cp.normal, blk.t1, blk.t2};
+  const Vec3 dirs[3] = {blk.row_cp.normal, blk.t1, blk.t2};
   for (int k = 0; k < blk.size; ++k) {
     const int row = blk.row + k;
     const Vec3& d = dirs[k];
@@ -49,13 +49,13 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
       const BodyState& a = s.bodies[blk.body_a];
       G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();
       G.block<1, 3>(row, 6 * blk.body_a + 3) =
-          (a.q.conjugate() * (blk.cp.point_a - a.x).cross(d)).transpose();
+          (a.q.conjugate() * (blk.row_cp.point_a - a.x).cross(d)).transpose();
     }
     if (blk.body_b != kGround) {
       const BodyState& b = s.bodies[blk.body_b];
       G.block<1, 3>(row, 6 * blk.body_b) = -d.transpose();
       G.block<1, 3>(row, 6 * blk.body_b + 3) =
-          -(b.q.conjugate() * (blk.cp.point_b - b.x).cross(d)).transpose();
+          -(b.q.conjugate() * (blk.row_cp.point_b - b.x).cross(d)).transpose();
     }
   }
 }
@@ -83,6 +83,8 @@ void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, 
   if (ws.rows + 3 > ws.max_rows) return;  // cannot happen: sized for the worst case
   ConstraintBlock blk;
   blk.cp = c.cp;
+  blk.row_cp = c.row_cp;
+  blk.row_ahead = c.row_ahead;
   blk.body_a = c.body_a;
   blk.body_b = c.body_b;
   blk.mu = c.mu;
@@ -98,34 +100,57 @@ void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, 
     blk.kind = BlockKind::Frictional;
     blk.size = 3;
   }
+  const Vec3& n = c.row_cp.normal;
   if (m.settings.planar == PlanarMode::XY) {
     blk.t2 = Vec3::UnitZ();
-    blk.t1 = blk.t2.cross(c.cp.normal);
+    blk.t1 = blk.t2.cross(n);
     const double l = blk.t1.norm();
-    blk.t1 = l > 1e-12 ? Vec3(blk.t1 / l) : anyOrthogonal(c.cp.normal);
+    blk.t1 = l > 1e-12 ? Vec3(blk.t1 / l) : anyOrthogonal(n);
   } else {
-    blk.t1 = anyOrthogonal(c.cp.normal);
-    blk.t2 = c.cp.normal.cross(blk.t1);
+    blk.t1 = anyOrthogonal(n);
+    blk.t2 = n.cross(blk.t1);
   }
-  writeJacobianRows(s, blk, ws.G);
+  writeJacobianRows(c.row_ahead ? ws.predicted : s, blk, ws.G);
   ws.rows += blk.size;
   ws.blocks.push_back(blk);
 }
 
+// The point of `ahead[0..na)` with the feature of `cp`, if its normal turns by
+// less than kMaxPredictedTurn; null otherwise. A larger turn means the motion
+// within the step is not small against the local curvature (a light body
+// crossing a tight clearance in one step): the prediction is then no better
+// than q_k, and can be far worse (a normal that flips).
+const ContactPoint* predictedFeature(const ContactPoint& cp, const ContactPoint* ahead, int na) {
+  static const double kMinCos = std::cos(kMaxPredictedTurn);
+  for (int i = 0; i < na; ++i)
+    if (ahead[i].feature == cp.feature)
+      return ahead[i].normal.dot(cp.normal) >= kMinCos ? &ahead[i] : nullptr;
+  return nullptr;
+}
+
 }  // namespace
 
-// `s` holds q_k and v_k; ws.vfree the free velocity (may be unused: normal_only).
+// `s` holds q_k and v_k; ws.vfree the free velocity (may be unused: normal_only);
+// ws.predicted q_k + h v_k when `predict`.
 void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
-                         double extra_margin, StepWorkspace& ws) {
+                         double extra_margin, bool predict, StepWorkspace& ws) {
   const Settings& set = m.settings;
   const bool planar = set.planar == PlanarMode::XY;
   const double eps_act = set.projection_tolerance + (normal_only ? 0.0 : set.activation_margin);
   const int npairs = static_cast<int>(m.contacts.size());
   if (!normal_only) ws.deferred.clear();
+  predict = predict && !normal_only;
+  int nahead = 0;  // points of the current pair or joint at ws.predicted
 
   auto addBlock = [&](const ContactPoint& cp, int ia, int ib, double mu, double e, int source,
                       bool clearance, int slot) {
-    const DeferredContact c{cp, ia, ib, mu, e, source, clearance, slot};
+    DeferredContact c{cp, cp, false, ia, ib, mu, e, source, clearance, slot};
+    if (predict) {
+      if (const ContactPoint* p = predictedFeature(cp, ws.points_ahead, nahead)) {
+        c.row_cp = *p;
+        c.row_ahead = true;
+      }
+    }
     if (!normal_only) {
       // Activation: the gap predicted from v_k, or from the free motion, closes.
       const double un = normalVelocity(s, ia, ib, cp);
@@ -150,6 +175,12 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
     const Pose pa = poseOf(a) * pair.a.pose;
     const Pose pb = poseOf(b) * pair.b.pose;
     const int np = collide(pair.a, pa, pair.b, pb, margin, ws.points);
+    nahead = 0;
+    if (predict && np > 0) {
+      const Pose qa = poseOf(bodyOrGround(ws.predicted, pair.a.body)) * pair.a.pose;
+      const Pose qb = poseOf(bodyOrGround(ws.predicted, pair.b.body)) * pair.b.pose;
+      nahead = collide(pair.a, qa, pair.b, qb, margin, ws.points_ahead);
+    }
     for (int k = 0; k < np; ++k)
       addBlock(ws.points[k], pair.a.body, pair.b.body, pair.mu, pair.e, p, false,
                p * kMaxPointsPerPair + ws.points[k].feature);
@@ -164,6 +195,12 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
         extra_margin + eps_act + 2.0 * h * (speedBound(br, reach) + speedBound(jr, reach));
     const int np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar,
                                      &ws.phi_hint[2 * c], ws.points);
+    nahead = 0;
+    double hint[2] = {ws.phi_hint[2 * c], ws.phi_hint[2 * c + 1]};  // a copy: q_k's stay
+    if (predict && np > 0)
+      nahead = clearanceContacts(cj, poseOf(bodyOrGround(ws.predicted, cj.bearing_body)),
+                                 poseOf(bodyOrGround(ws.predicted, cj.journal_body)), margin,
+                                 planar, hint, ws.points_ahead);
     for (int k = 0; k < np; ++k) {
       const ContactPoint cp = ws.points[k];
       addBlock(cp, cj.bearing_body, cj.journal_body, cj.mu, cj.e, static_cast<int>(c), true,

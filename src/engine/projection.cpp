@@ -19,7 +19,7 @@ void gatherPositionRows(const Model& m, const State& s, const std::vector<double
   ws.rows = 0;
   // Prescribed rates do not matter at the position level.
   appendBilateralBlocks(m, s, commands, ws.zero_rates, ws);
-  appendContactBlocks(m, s, 0.0, true, extra_margin, ws);
+  appendContactBlocks(m, s, 0.0, true, extra_margin, false, ws);
 }
 
 double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {

@@ -116,6 +116,10 @@ void apply(Settings& st, const std::string& key, const std::string& v) {
     const double x = finiteValue(key, v);
     if (!(x >= 0)) throw Bad{"setting 'activation_margin' must be >= 0, got " + num(x)};
     st.activation_margin = x;
+  } else if (key == "contact_prediction") {
+    const double x = finiteValue(key, v);
+    requireIn(key, x, 0, false, 1, false);
+    st.contact_prediction = x;
   } else if (key == "planar") {
     const std::string s = lower(trim(v));
     if (s == "false" || s == "none" || s == "0" || s == "no") st.planar = PlanarMode::None;
@@ -143,7 +147,7 @@ const std::vector<std::string>& settingKeys() {
       "dt",         "theta",      "gravity",
       "tolerance",  "max_iterations",  "projection",
       "projection_tolerance", "projection_max_iterations", "activation_gamma",
-      "activation_margin", "planar"};
+      "activation_margin", "contact_prediction", "planar"};
   return keys;
 }
 

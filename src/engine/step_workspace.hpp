@@ -23,7 +23,11 @@ struct ConstraintBlock {
   int body_a = kGround, body_b = kGround;
   double mu = 0, e = 0;
   // Unilateral contacts
-  ContactPoint cp;          // world geometry; normal from B to A
+  ContactPoint cp;          // world geometry at q_k; normal from B to A
+  // The geometry the rows are built from: cp, or the same feature at the
+  // predicted configuration ws.predicted (row_ahead); see appendContactBlocks.
+  ContactPoint row_cp;
+  bool row_ahead = false;
   Vec3 t1 = Vec3::UnitX(), t2 = Vec3::UnitY();
   int source = -1;          // contact pair or clearance joint index
   bool clearance = false;
@@ -39,6 +43,8 @@ struct ConstraintBlock {
 // under v_k or v_free); activateLateContacts checks it against the answer.
 struct DeferredContact {
   ContactPoint cp;
+  ContactPoint row_cp;  // as in ConstraintBlock
+  bool row_ahead = false;
   int body_a = kGround, body_b = kGround;
   double mu = 0, e = 0;
   int source = -1;
@@ -66,6 +72,7 @@ class StepWorkspace {
   Eigen::LLT<Eigen::MatrixXd> llt;
   Eigen::VectorXd rhs, vk, vfree, vnew, dv;
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
+  State predicted;  // q_k advanced by ahead * v_k: where the contact rows are evaluated
   bool ring_facets = false;  // projection: penetrating rings also get tangent facets
   std::vector<double> actuator_effort;
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
@@ -100,6 +107,7 @@ class StepWorkspace {
   std::vector<double> cj_fn;                               // per clearance joint
 
   ContactPoint points[kMaxClearancePoints];
+  ContactPoint points_ahead[kMaxClearancePoints];  // the same pair at ws.predicted
 };
 
 // The state of a body, or of ground (identity pose, at rest) for kGround.
@@ -126,18 +134,26 @@ void appendBilateralBlocks(const Model& m, const State& s, const std::vector<dou
 
 // contact_candidates.cpp: unilateral contact blocks whose gap is below the margin
 // computed from the velocities; normal_only gives 1-row blocks (projection).
+// Largest turn of a contact normal between q_k and the predicted configuration
+// for which the predicted rows are used (rad).
+constexpr double kMaxPredictedTurn = 0.1;
+// With `predict`, the rows of a contact are built from the same feature at
+// ws.predicted (q_k + h v_k, Siconos's convention) when its normal there turns
+// by less than kMaxPredictedTurn from the one at q_k; gaps and activation stay
+// those of q_k.
 void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
-                         double extra_margin, StepWorkspace& ws);
-// Writes the Jacobian rows of block `blk` into ws.G.
+                         double extra_margin, bool predict, StepWorkspace& ws);
 // Candidates of this step left out by appendContactBlocks that close under the
 // solved velocity ws.vnew (g + h u_N(v_new) <= 0): appended as new blocks.
 // Returns how many.
-// Y = Minv G^T and W = G Y for rows [0, r), from the two bodies of each row.
-// Columns of Y and rows/columns of W below `from` are kept as they are (rows
-// appended to a problem already assembled).
-void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r);
 int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws);
+// Writes the Jacobian rows of block `blk` (geometry blk.row_cp) into G; `s` is
+// the state that geometry belongs to.
 void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
+// delassus_operator.cpp: Y = Minv G^T and W = G Y for rows [0, r), from the two
+// bodies of each row. Columns of Y and rows/columns of W below `from` are kept as
+// they are (rows appended to a problem already assembled).
+void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r);
 
 // projection.cpp: combined projection of positions onto the constraints.
 // Returns the number of passes; writes the remaining violation.
@@ -147,6 +163,9 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
 // time_integration.cpp: x_{k+1}, q_{k+1} from v_k, v_{k+1}.
 void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::VectorXd& vnew,
                         double h, double theta);
+// out = s with positions advanced by `ahead` * v (velocities kept); returns out.
+// out.bodies must have s's size (no allocation).
+const State& predictState(const State& s, double ahead, State& out);
 void applyDisplacement(State& s, const Eigen::VectorXd& dq);
 void stateVelocities(const State& s, Eigen::VectorXd& v);
 void setStateVelocities(State& s, const Eigen::VectorXd& v);
