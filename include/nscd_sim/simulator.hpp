@@ -48,6 +48,9 @@ struct StepStats {
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
   bool energy_capped = false;   // still unsolved: impulses scaled so they add no kinetic energy
+  // Potential energy the projection added, taken back from the kinetic energy
+  // (J; scenes without actuators only; see Simulator::step).
+  double projection_energy_removed = 0;
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };

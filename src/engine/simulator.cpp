@@ -37,11 +37,6 @@ int bilateralRowCount(const Model& m, std::vector<int>& joint_base, std::vector<
   return rows;
 }
 
-// M^-1 restricted to the allowed directions: B (B^T A B)^-1 B^T (B = I unless planar).
-// The kinetic energy the contact impulses add in this step, Phi = sum_c P_c.u+_c
-// - P.W.P/2 (the change K(v+) - K(v_free) minus the work of the bilateral rows'
-// targets), compared with K(v_free). With e = 0 every term is <= 0 (u_N+ P_N = 0,
-// friction opposes u_T+), so Phi > 0 can only come from restitution.
 // Residual above which an unconverged frictional answer is replaced (see step()).
 constexpr double kFrictionlessFallbackResidual = 1e-3;
 // Re-solves per step for contacts closed by the answer (activateLateContacts).
@@ -57,6 +52,50 @@ double kineticEnergyOf(const Model& m, const StepWorkspace& ws, const Eigen::Vec
   return k;
 }
 
+// Gravity and spring potential energies of the positions in s (kinetic = 0).
+EnergyReport potentialEnergyOf(const Model& m, const State& s) {
+  EnergyReport e;
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    e.gravity -= m.bodies[i].mass * m.settings.gravity.dot(s.bodies[i].x);
+  for (const Spring& sp : m.springs) {
+    double stretch;
+    if (sp.type == SpringType::Linear) {
+      stretch = (bodyPointWorld(s, sp.body_b, sp.end_b) - bodyPointWorld(s, sp.body_a, sp.end_a)).norm() - sp.rest;
+    } else {
+      stretch = jointPosition(m, s, sp.joint) - sp.rest;
+    }
+    e.springs += 0.5 * sp.stiffness * stretch * stretch;
+  }
+  return e;
+}
+
+double kineticEnergyOf(const Model& m, const State& s) {
+  double k = 0;
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const BodyState& b = s.bodies[i];
+    k += 0.5 * (m.bodies[i].mass * b.v.squaredNorm() + b.w.dot(m.bodies[i].inertia * b.w));
+  }
+  return k;
+}
+
+// Takes `amount` (J) out of the kinetic energy of the state by one common
+// factor on every velocity (homogeneous velocity constraints stay satisfied);
+// all of it if there is less. Returns what was taken.
+double removeKineticEnergy(const Model& m, State& s, double amount) {
+  const double k = kineticEnergyOf(m, s);
+  if (!(k > 0)) return 0;
+  const double f = amount < k ? std::sqrt(1 - amount / k) : 0.0;
+  for (BodyState& b : s.bodies) {
+    b.v *= f;
+    b.w *= f;
+  }
+  return std::min(amount, k);
+}
+
+// The kinetic energy the contact impulses add in this step, Phi = sum_c P_c.u+_c
+// - P.W.P/2 (the change K(v+) - K(v_free) minus the work of the bilateral rows'
+// targets), compared with K(v_free). With e = 0 every term is <= 0 (u_N+ P_N = 0,
+// friction opposes u_T+), so Phi > 0 can only come from restitution.
 bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
   bool any_restitution = false;
   for (const ConstraintBlock& blk : ws.blocks)
@@ -77,6 +116,7 @@ bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
   return std::isfinite(phi) && phi > 1e-12 * kineticEnergyOf(m, ws, ws.vfree) + 1e-300;
 }
 
+// M^-1 restricted to the allowed directions: B (B^T A B)^-1 B^T (B = I unless planar).
 bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out) {
   if (!ws.planar) {
     ws.llt.compute(A);
@@ -253,6 +293,7 @@ StepStatus Simulator::step() {
   }
   ws.vfree = ws.vk;
   ws.vfree.noalias() += ws.Minv * ws.rhs;
+  addGyroscopicImpulses(m, h, ws);
 
   // 2. constraint rows. Contact rows are evaluated at q_k + ahead v_k (by
   // default the end of the step as predicted by v_k, Siconos's convention): a
@@ -465,14 +506,22 @@ StepStatus Simulator::step() {
   // 6. projection
   double violation = 0;
   if (set.projection) {
+    // Without actuators nothing puts energy in: the potential energy the
+    // projection adds (it lifts a body that drifted into a contact; the exact
+    // motion never did) is a discretisation artefact, taken back from the
+    // kinetic energy so that such a scene never gains energy.
+    const bool no_input = m.actuators.empty();
+    const double pe_before = no_input ? potentialEnergyOf(m, state_).total() : 0.0;
     st.projection_passes = projectPositions(m, state_, commands_, ws,
                                             set.projection_max_iterations,
                                             set.projection_tolerance, violation);
-    double bil = 0;
+    if (no_input && st.projection_passes > 0) {
+      const double gain = potentialEnergyOf(m, state_).total() - pe_before;
+      if (gain > 0) st.projection_energy_removed = removeKineticEnergy(m, state_, gain);
+    }
     st.max_penetration = 0;
     for (const ConstraintBlock& blk : ws.blocks)
       if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.cp.gap);
-    (void)bil;
   } else {
     st.max_penetration = measureViolation(m, state_, commands_, ws);
   }
@@ -492,22 +541,8 @@ const StepStats& Simulator::stats() const { return ws_->stats; }
 const std::vector<ContactReport>& Simulator::contacts() const { return ws_->reports; }
 
 EnergyReport Simulator::energy() const {
-  EnergyReport e;
-  const Model& m = model_;
-  for (size_t i = 0; i < m.bodies.size(); ++i) {
-    const BodyState& b = state_.bodies[i];
-    e.kinetic += 0.5 * m.bodies[i].mass * b.v.squaredNorm() + 0.5 * b.w.dot(m.bodies[i].inertia * b.w);
-    e.gravity -= m.bodies[i].mass * m.settings.gravity.dot(b.x);
-  }
-  for (const Spring& sp : m.springs) {
-    double stretch;
-    if (sp.type == SpringType::Linear) {
-      stretch = (bodyPointWorld(state_, sp.body_b, sp.end_b) - bodyPointWorld(state_, sp.body_a, sp.end_a)).norm() - sp.rest;
-    } else {
-      stretch = jointPosition(m, state_, sp.joint) - sp.rest;
-    }
-    e.springs += 0.5 * sp.stiffness * stretch * stretch;
-  }
+  EnergyReport e = potentialEnergyOf(model_, state_);
+  e.kinetic = kineticEnergyOf(model_, state_);
   return e;
 }
 

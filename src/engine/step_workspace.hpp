@@ -119,6 +119,8 @@ inline const BodyState& bodyOrGround(const State& s, int body) {
 // ---- stages (each in its own file) ----
 
 // forces.cpp: generalized forces at the state; with jacobians, K and C too.
+// forces.cpp: gyroscopic impulses added to ws.vfree (backward Euler per body).
+void addGyroscopicImpulses(const Model& m, double h, StepWorkspace& ws);
 void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
                    StepWorkspace& ws, bool with_jacobians);
 double jointPosition(const Model& m, const State& s, int joint);
