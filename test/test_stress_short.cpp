@@ -72,20 +72,28 @@ TEST(StressShort, RandomClearancePendulumsStayFinite) {
   }
 }
 
-// KNOWN FAILURE (issue 6, not met yet): on random clearance pendulums the
-// penetration can exceed 1% of the clearance (projection passes exhausted at large
-// h) and the energy can grow beyond round-off (projection lifting deep
-// penetrations; Newton restitution with friction). Run with
+// No input, e <= 1, mu >= 0: the energy may only go down (round-off allowance
+// 1e-9 of the scene's energy scale, see docs/performance.md). Before backward-
+// Euler gyroscopic torques and the energy-neutral projection, 6 of these 60 runs
+// gained up to 2e-4 of the scale.
+TEST(StressShort, RandomClearancePendulumsArePassive) {
+  const std::vector<Outcome> runs = runCases(0, 60, defaultJobs());
+  for (const Outcome& o : runs) {
+    ASSERT_EQ(o.m.status, "ok") << reproduce(o.c);
+    EXPECT_LE(o.m.energy_gain_max, 1e-9 * (o.c.energy_scale + o.m.kinetic_peak)) << reproduce(o.c);
+  }
+}
+
+// KNOWN FAILURE (issue 6, not met yet): on random 3D two-link clearance
+// pendulums the penetration can exceed 1% of the clearance (the coupled problem
+// unsolved at large h, projection passes exhausted). Run with
 // --gtest_also_run_disabled_tests; counts are in docs/performance.md.
-TEST(StressShort, DISABLED_RandomClearancePendulumsStayClosedAndPassive) {
+TEST(StressShort, DISABLED_RandomClearancePendulumsStayClosed) {
   const std::vector<Outcome> runs = runCases(0, 60, defaultJobs());
   for (const Outcome& o : runs) {
     ASSERT_EQ(o.m.status, "ok") << reproduce(o.c);
     // Projection on: the clearance is never eaten by more than 1%.
     EXPECT_LE(o.m.max_penetration, 0.01 * o.c.radial) << reproduce(o.c);
-    // No input, e <= 1, mu >= 0: energy may only go down (round-off allowance
-    // 1e-9 of the scene's energy scale, see docs/performance.md).
-    EXPECT_LE(o.m.energy_gain_max, 1e-9 * (o.c.energy_scale + o.m.kinetic_peak)) << reproduce(o.c);
   }
 }
 
@@ -99,25 +107,21 @@ TEST(StressShort, DISABLED_RandomClearancePendulumsStayClosedAndPassive) {
 //   contacts now join the problem (StepStats::late_contacts). Energy scale 6e2 J.
 // - 453: projection passes oscillated around a 9 um clearance circle, ending 64
 //   clearances deep; the ring's neighbouring tangent lines now join the projection.
+// - 505: a planar link in a 1.3 um clearance at h = 9.3e-4 gained 2.2e-4 of its
+//   energy scale through the projection lifting the drifted pin; the potential
+//   energy the projection adds is now taken from the kinetic energy.
+// - 456: a 3D link tumbling in free flight gained energy every step by the
+//   explicit gyroscopic torque (9.2e-8); now backward Euler.
 TEST(StressShort, FormerFailuresStayBounded) {
-  const std::vector<Outcome> runs = runCaseList({383, 485, 688, 814, 453}, defaultJobs(), 1000);
+  const std::vector<Outcome> runs =
+      runCaseList({383, 485, 688, 814, 453, 505, 456}, defaultJobs(), 1000);
   for (const Outcome& o : runs) {
     const std::string why = reproduce(o.c, 1000);
     ASSERT_EQ(o.m.status, "ok") << why;
     EXPECT_EQ(o.m.steps, 1000) << why;
-    switch (o.c.index) {
-      case 814:  // measured 2.2e-4 (projection lifting the pins), was 0.55
-        EXPECT_LE(gainRel(o), 1e-3) << why;
-        EXPECT_LE(o.m.max_penetration, 0.01 * o.c.radial) << why;
-        break;
-      case 453:  // measured 1.1e-4 c_r
-        EXPECT_LE(o.m.max_penetration, 0.01 * o.c.radial) << why;
-        EXPECT_LE(gainRel(o), 1e-9) << why;
-        break;
-      default:  // measured <= 1e-10
-        EXPECT_LE(gainRel(o), 1e-8) << why;
-        EXPECT_LE(o.m.max_penetration, 0.01 * o.c.radial) << why;
-    }
+    // Measured: no gain at all; penetration <= 7.4e-4 c_r (505).
+    EXPECT_LE(gainRel(o), 1e-9) << why;
+    EXPECT_LE(o.m.max_penetration, 0.01 * o.c.radial) << why;
   }
 }
 
