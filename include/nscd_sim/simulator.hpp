@@ -43,6 +43,7 @@ struct StepStats {
   int active_contacts = 0;
   int rows = 0;
   int projection_passes = 0;
+  int projection_least_distance = 0;  // passes whose problem Gauss-Seidel left unsolved, solved exactly
   double max_penetration = 0;  // largest (positive) penetration at the end of the step
   bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "least_distance.hpp"
 #include "step_workspace.hpp"
 
 namespace nscd {
@@ -33,6 +34,44 @@ double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {
   }
   if (bilateral) *bilateral = bil;
   return pen;
+}
+
+// The correction of this pass as the least-distance problem it is the dual of:
+// min |y| over G L y >= -g (= -err for bilateral rows), with L L^T = M^-1
+// (planar-projected), dq = L y. For passes whose complementarity problem the
+// solver did not solve. False (ws.dv kept) if infeasible. Allocates: a fallback.
+bool leastDistanceCorrection(StepWorkspace& ws) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(ws.Mproj);
+  const Eigen::VectorXd& lam = eig.eigenvalues();
+  const double floor = 1e-12 * lam.maxCoeff();
+  int k = 0;
+  for (int i = 0; i < lam.size(); ++i) k += lam(i) > floor;
+  Eigen::MatrixXd L(ws.n, k);
+  for (int i = 0, j = 0; i < lam.size(); ++i)
+    if (lam(i) > floor) L.col(j++) = eig.eigenvectors().col(i) * std::sqrt(lam(i));
+  int rows = 0;
+  for (const ConstraintBlock& blk : ws.blocks) rows += blk.kind == BlockKind::Bilateral ? 2 * blk.size : 1;
+  Eigen::MatrixXd A(rows, k);
+  Eigen::VectorXd c(rows);
+  int i = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.kind != BlockKind::Bilateral) {
+      A.row(i) = ws.G.row(blk.row).head(ws.n) * L;
+      c(i++) = -blk.cp.gap;
+      continue;
+    }
+    for (int q = 0; q < blk.size; ++q) {  // equality: both inequalities
+      A.row(i) = ws.G.row(blk.row + q).head(ws.n) * L;
+      c(i++) = -blk.error[q];
+      A.row(i) = -A.row(i - 1);
+      c(i) = -c(i - 1);
+      ++i;
+    }
+  }
+  Eigen::VectorXd y;
+  if (!leastDistance(A, c, y)) return false;
+  ws.dv.noalias() = L * y;
+  return ws.dv.allFinite();
 }
 
 }  // namespace
@@ -84,8 +123,10 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
     }
     assembleDelassus(ws.Mproj, ws, 0, r);
     ws.P.head(r).setZero();
-    ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
+    const SolverReport rep =
+        ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
+    if (!rep.converged && leastDistanceCorrection(ws)) ++ws.stats.projection_least_distance;
     if (!ws.dv.allFinite()) {
       ws.ring_facets = false;
       return pass;
