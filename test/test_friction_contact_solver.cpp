@@ -196,6 +196,29 @@ TEST(LocalSolver, ZeroTangentRow) {
   EXPECT_EQ(P(2), 0.0);
 }
 
+// Planar contacts (second tangent row decoupled, as step() builds them) are
+// solved in closed form: random 2-D problems obey Coulomb's law to 1e-12, keep
+// P_T2 = 0 and end in the stick or slide stage.
+TEST(LocalSolver, RandomPlanarProblemsInClosedForm) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const Matrix3d W3 = randomSpd3(rng, std::pow(10.0, 3 * u(rng)), std::pow(10.0, 4 * u(rng) - 2));
+    Matrix3d W = Matrix3d::Zero();
+    W.topLeftCorner<2, 2>() = W3.topLeftCorner<2, 2>();
+    W(2, 2) = W(1, 1);
+    const double mu = 2 * u(rng) + 1e-3;
+    const Vector3d b(-std::abs(g(rng)), g(rng), 0);
+    Vector3d P = Vector3d::Zero();
+    LocalSolveInfo info;
+    ASSERT_TRUE(solveLocalFrictional(W, b, mu, 1e-12, P, &info)) << k;
+    EXPECT_TRUE(info.stage == LocalStage::Stick || info.stage == LocalStage::Newton) << k;
+    EXPECT_EQ(P(2), 0.0) << k;
+    EXPECT_LE(localCoulombError(P, W * P + b, mu), 1e-12 * std::max(1.0, b.norm())) << k;
+  }
+}
+
 TEST(LocalSolver, NonFiniteInputReportsFailure) {
   Matrix3d W = Matrix3d::Identity();
   W(1, 1) = NAN;

@@ -135,25 +135,31 @@ TEST(StressShort, RerunsAreBitIdenticalOnAnyThreadCount) {
   }
 }
 
-// Read-only queries must not steer the simulation: stepping with and without a
-// constraintViolation() call after each step gives the same bits.
+// Read-only queries must not steer the simulation: stepping with and without
+// constraintViolation(), energy() and stats() calls after each step gives the
+// same bits, with projection on and off (off: stats() measures the penetration
+// when asked, a geometry pass of its own).
 TEST(StressShort, QueriesDoNotChangeTheTrajectory) {
   const StressCase c = makeStressCase(kSeed, 485);  // 3D, 2 links, 1.2 um clearance
-  std::vector<double> x[2];
-  for (int query = 0; query < 2; ++query) {
-    nscd::Simulator sim(nscd::loadSceneFromString(c.urdf, "stress"));
+  std::vector<double> x[4];
+  for (int run = 0; run < 4; ++run) {
+    const int query = run % 2;
+    nscd::Simulator sim(nscd::loadSceneFromString(
+        c.urdf, "stress", {{"projection", run < 2 ? "true" : "false", "test"}}));
     for (int k = 0; k < 20; ++k) {
       sim.step();
-      if (query) sim.constraintViolation(), sim.energy();
+      if (query) sim.constraintViolation(), sim.energy(), sim.stats();
     }
     for (const nscd::BodyState& b : sim.state().bodies)
       for (int i = 0; i < 3; ++i) x[query].push_back(b.x[i]);
   }
   // Compare bits, not values: this case may end non-finite (a known stress failure,
   // counted by nscd_stress), and a query must not change even that.
-  ASSERT_EQ(x[0].size(), x[1].size());
-  EXPECT_EQ(0, std::memcmp(x[0].data(), x[1].data(), x[0].size() * sizeof(double)))
-      << "Simulator::constraintViolation() changed the following steps";
+  for (int p = 0; p < 4; p += 2) {
+    ASSERT_EQ(x[p].size(), x[p + 1].size());
+    EXPECT_EQ(0, std::memcmp(x[p].data(), x[p + 1].data(), x[p].size() * sizeof(double)))
+        << "a query changed the following steps (projection " << (p ? "off" : "on") << ")";
+  }
 }
 
 TEST(StressShort, CasesCoverTheRequestedRanges) {

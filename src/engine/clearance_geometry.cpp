@@ -191,14 +191,16 @@ ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, do
     // g = R - |e| - rj exactly.
     const Vec3 e = -w0 + (n.dot(w0) / n.dot(a)) * a;
     const double ex = e.dot(e1), ey = e.dot(e2);
-    if (ex != 0 || ey != 0) {
+    const double enorm = std::sqrt(ex * ex + ey * ey);
+    Vec3 dir;
+    if (enorm > 0) {
       phi = std::atan2(ey, ex);
+      dir = (ex / enorm) * e1 + (ey / enorm) * e2;
     } else {  // concentric: every ring point; keep the hint's
       phi = std::isfinite(phi) ? std::remainder(phi, 2 * kPi) : 0.0;
+      dir = std::cos(phi) * e1 + std::sin(phi) * e2;
     }
-    const Vec3 dir = std::cos(phi) * e1 + std::sin(phi) * e2;
     ContactPoint cp;
-    const double enorm = std::sqrt(ex * ex + ey * ey);
     const double d = R - enorm;  // signed: the axis is inside the ring when d > 0
     cp.point_a = c + R * dir;
     cp.normal = d >= 0 ? dir : Vec3(-dir);

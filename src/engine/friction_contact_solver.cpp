@@ -336,6 +336,29 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   }
   if (!validBlocks(blocks, std::min({W.rows(), W.cols(), b.size(), P.size()}))) return rep;
 
+  // One frictional contact (a pin in its hole, a body on a plane): the local
+  // solver's answer is the problem's. Checked on the problem's own error; the
+  // general path below takes over (from this answer) if it falls short.
+  if (blocks.size() == 1 && blocks[0].kind == BlockKind::Frictional && blocks[0].row == 0 &&
+      W.topLeftCorner<3, 3>().allFinite() && b.head<3>().allFinite()) {
+    const Matrix3d Wl = W.topLeftCorner<3, 3>();
+    const Vector3d bl = b.head<3>();
+    if (Wl.diagonal().minCoeff() > kRelZeroDiag * Wl.diagonal().maxCoeff()) {
+      Vector3d Pl = P.head<3>().allFinite() ? Vector3d(P.head<3>()) : Vector3d::Zero();
+      solveLocalFrictional(Wl, bl, blocks[0].mu, std::max(1e-14, 1e-2 * options.tolerance), Pl);
+      const Vector3d Ul = Wl * Pl + bl;
+      const double err = errorFromU(blocks, Pl.data(), Ul.data(), bl.norm());
+      if (err <= options.tolerance) {
+        P.head<3>() = Pl;
+        rep.residual = err;
+        rep.converged = true;
+        rep.sweeps = 1;
+        rep.iterations = 1;
+        return rep;
+      }
+    }
+  }
+
   // Non-finite input: report, never loop.
   double maxDiag = 0;
   for (int i = 0; i < m; ++i) {

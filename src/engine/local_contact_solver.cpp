@@ -296,6 +296,30 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
     return finish(LocalStage::WarmStart, P, true);
   }
 
+  // Second tangent row decoupled (planar scenes): a 2D contact, solved in
+  // closed form. Stick: the 2 x 2 system U = 0; slide in direction s = +-1:
+  // P_T = -s mu P_N, U_N = 0 gives P_N, valid if s U_T >= 0.
+  if (W(0, 2) == 0 && W(1, 2) == 0 && b(2) == 0) {
+    const Eigen::Matrix2d W2 = W.topLeftCorner<2, 2>();
+    const double det = W2.determinant();
+    if (det > tiny * maxDiag) {
+      const Eigen::Vector2d p = W2.inverse() * -b.head<2>();
+      if (p(0) > 0 && std::abs(p(1)) <= mu * p(0)) {
+        const Vector3d Pc(p(0), p(1), 0);
+        if (errorOf(W, b, mu, Pc) <= tolAbs) return finish(LocalStage::Stick, Pc, true);
+      }
+    }
+    for (double sgn : {1.0, -1.0}) {
+      const double wn = W(0, 0) - sgn * mu * W(0, 1);
+      if (!(wn > tiny)) continue;
+      const double pn = -b(0) / wn;
+      const Vector3d Pc(pn, -sgn * mu * pn, 0);
+      const double ut = W(1, 0) * Pc(0) + W(1, 1) * Pc(1) + b(1);
+      if (pn > 0 && sgn * ut >= 0 && errorOf(W, b, mu, Pc) <= tolAbs)
+        return finish(LocalStage::Newton, Pc, true);
+    }
+  }
+
   Best best;
   // Sticking: U = 0.
   const Eigen::LDLT<Matrix3d> ldlt(W);

@@ -250,6 +250,7 @@ void Simulator::reset() {
   std::fill(ws.warm_bilateral.begin(), ws.warm_bilateral.end(), 0.0);
   ws.reports.clear();
   ws.stats = StepStats();
+  ws.penetration_pending = false;
   std::fill(ws.phi_hint.begin(), ws.phi_hint.end(), std::numeric_limits<double>::quiet_NaN());
 }
 
@@ -308,6 +309,7 @@ StepStatus Simulator::step() {
   // 3-4. Delassus operator, local free velocities, solve
   StepStats& st = ws.stats;
   st = StepStats();
+  ws.penetration_pending = false;
   ws.reports.clear();
   SolverOptions opt;
   opt.tolerance = set.tolerance;
@@ -523,7 +525,10 @@ StepStatus Simulator::step() {
     for (const ConstraintBlock& blk : ws.blocks)
       if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.cp.gap);
   } else {
-    st.max_penetration = measureViolation(m, state_, commands_, ws);
+    // Measured when asked for (stats()): it costs a geometry pass, as much as
+    // the contact search itself, and most callers never read it.
+    st.max_penetration = 0;
+    ws.penetration_pending = true;
   }
   ws.blocks.clear();
   ws.rows = 0;
@@ -537,7 +542,18 @@ StepStatus Simulator::step() {
 
 double Simulator::actuatorEffort(int actuator) const { return ws_->actuator_effort[actuator]; }
 double Simulator::springForce(int spring) const { return springForceAt(model_, state_, spring); }
-const StepStats& Simulator::stats() const { return ws_->stats; }
+const StepStats& Simulator::stats() const {
+  StepWorkspace& ws = *ws_;
+  if (ws.penetration_pending) {  // the last step had no projection (see step())
+    ws.penetration_pending = false;
+    ws.phi_saved = ws.phi_hint;  // a query must not change the trajectory
+    ws.stats.max_penetration = measureViolation(model_, state_, commands_, ws);
+    ws.phi_hint = ws.phi_saved;
+    ws.blocks.clear();
+    ws.rows = 0;
+  }
+  return ws.stats;
+}
 const std::vector<ContactReport>& Simulator::contacts() const { return ws_->reports; }
 
 EnergyReport Simulator::energy() const {

@@ -103,6 +103,7 @@ class StepWorkspace {
   // Reports of the last step
   std::vector<ContactReport> reports;
   StepStats stats;
+  bool penetration_pending = false;  // stats.max_penetration still to measure (no projection)
   std::vector<double> pair_gap, pair_fn, pair_ft;          // per contact pair
   std::vector<double> cj_fn;                               // per clearance joint
 
