@@ -10,17 +10,7 @@ scene=${1:-$C60_REPO/urdf/c60_bench.urdf}
 shift || true
 tag=${C60_TAG:-c60_bench}
 png=${C60_PNG-$C60_DOCS/c60_bench.png}
-# settle 4 ms | forward 2 mm in 20 ms | hold 6 ms | back in 20 ms | hold 4 ms; each stroke
-# eases in and out (smoothstep, sampled every 1 ms) so the table does not ring the mechanism.
-table="table=$($PY -c "
-pts = [(0, 0), (0.004, 0)]
-for t0, x0, x1 in [(0.004, 0, 0.002), (0.030, 0.002, 0)]:
-    for k in range(1, 21):
-        s = k / 20; e = s * s * (3 - 2 * s)
-        pts.append((t0 + 0.020 * s, x0 + (x1 - x0) * e))
-    if t0 == 0.004: pts.append((0.030, 0.002))
-pts.append((0.054, 0))
-print(','.join('%.6g:%.9g' % p for p in pts))")"
+table="$C60_TABLE"  # scripts/c60_env.sh
 start=$(date +%s.%N)
 "$NSCD_RUN" "$scene" --duration 0.054 --command "$table" --csv "$C60_OUT/$tag.csv" --every 5 --quiet "$@" \
   > "$C60_OUT/$tag.run.json"

@@ -33,22 +33,25 @@ echo "== work-precision"
 # C-60 trip (scripts/c60_trip.sh: urdf/c60.urdf, 10 ms, the probe schedule of
 # scripts/c60_env.sh): the h = 1e-6 reference (1e4 steps) and the grid take about
 # a minute on 2 cores. PERF_C60=0 leaves it out.
-# HOOK (not wired yet): the C-60 bench (scripts/c60_bench.sh: urdf/c60_bench.urdf,
-# 54 ms, a table schedule computed inside that script) joins the same way with
-#   --scene-file c60_bench=urdf/c60_bench.urdf --file-duration 0.054 --command "table=..."
-# once its schedule is available outside the script.
+# The C-60 bench (scripts/c60_bench.sh: urdf/c60_bench.urdf, 54 ms, the table schedule
+# of scripts/c60_env.sh) the same way: ~40 s more.
+rm -f "$OUT/work_precision_c60.csv" "$OUT/work_precision_c60_bench.csv"
 if [ "${PERF_C60:-1}" != 0 ] && [ -f "$repo/urdf/c60.urdf" ] && [ -f "$repo/scripts/c60_env.sh" ]; then
-  probe=$(NSCD_RUN=/bin/true C60_OUT=$OUT/c60 bash -c "source '$repo/scripts/c60_env.sh'; echo \$C60_PROBE")
+  c60var() { NSCD_RUN=/bin/true C60_OUT=$OUT/c60 bash -c "source '$repo/scripts/c60_env.sh'; echo \$$1"; }
   "$bin/nscd_work_precision" --scenes none --scene-file "c60_trip=$repo/urdf/c60.urdf" \
-    --file-duration 0.010 --file-sample-dt 1e-4 --command "$probe" \
+    --file-duration 0.010 --file-sample-dt 1e-4 --command "$(c60var C60_PROBE)" \
     --hs 1e-4,5e-5,2e-5,1e-5 --href 1e-6 --tols 1e-4,1e-8 --csv "$OUT/work_precision_c60.csv" \
     > "$OUT/work_precision_c60_orders.csv"
+  "$bin/nscd_work_precision" --scenes none --scene-file "c60_bench=$repo/urdf/c60_bench.urdf" \
+    --file-duration 0.054 --file-sample-dt 1e-4 --command "$(c60var C60_TABLE)" \
+    --hs 1e-4,5e-5,2e-5,1e-5 --href 1e-6 --tols 1e-4,1e-8 --csv "$OUT/work_precision_c60_bench.csv" \
+    > "$OUT/work_precision_c60_bench_orders.csv"
 fi
 "$bin/nscd_work_precision" "${wp_args[@]}" --csv "$OUT/work_precision.csv" \
   > "$OUT/work_precision_orders.csv"
-if [ -f "$OUT/work_precision_c60.csv" ]; then  # one CSV for the plots: same header
-  tail -n +2 "$OUT/work_precision_c60.csv" >> "$OUT/work_precision.csv"
-fi
+for f in "$OUT/work_precision_c60.csv" "$OUT/work_precision_c60_bench.csv"; do
+  if [ -f "$f" ]; then tail -n +2 "$f" >> "$OUT/work_precision.csv"; fi  # one CSV for the plots
+done
 fi
 $py "$repo/scripts/work_precision.py" "$OUT/work_precision.csv" --png "$repo/docs/work_precision.png" \
   --order-png "$repo/docs/work_precision_h.png" --table "$OUT/work_precision.md"
