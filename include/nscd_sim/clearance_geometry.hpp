@@ -29,10 +29,12 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
 // For the position projection: the radial constraint of a ring is the disc
 // |e| <= R - rj, and one half-plane (the deepest direction, `ring_point`) is a
 // poor model of it when the correction is comparable to the clearance: passes
-// then oscillate around the circle. This adds the half-planes at +-30 and +-60
-// degrees about the ring axis (tangent lines of the same disc, each a necessary
-// condition), those with gap below margin. The journal axis point of
-// `ring_point` is kept (exact for an untilted journal). out must hold 4 points.
+// then oscillate around the circle. This adds the half-planes at +-15, +-30 and
+// +-60 degrees about the ring axis (tangent lines of the same disc, each a
+// necessary condition), those with gap below margin. The journal axis point of
+// `ring_point` is kept (exact for an untilted journal). out must hold
+// kRingFacets points.
+constexpr int kRingFacets = 6;
 int clearanceRingFacets(const ClearanceJoint& cj, const Pose& bearing,
                         const ContactPoint& ring_point, double margin, ContactPoint* out);
 

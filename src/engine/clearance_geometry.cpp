@@ -312,7 +312,10 @@ int clearanceRingFacets(const ClearanceJoint& cj, const Pose& bearing,
   if (n0.squaredNorm() < 1e-24) return 0;
   n0.normalize();
   const Vec3 m0 = nb.cross(n0);
-  static const double kAngles[4] = {kPi / 6, -kPi / 6, kPi / 3, -kPi / 3};
+  // +-15 deg since 2026-11-22 afternoon: with only +-30 and +-60, a journal cocked
+  // in its bearing (the two ring ends touching opposite sides) saw its contact
+  // directions swing by ~15 deg between passes and the passes stall (stress case 455).
+  static const double kAngles[kRingFacets] = {kPi / 12, -kPi / 12, kPi / 6, -kPi / 6, kPi / 3, -kPi / 3};
   int n = 0;
   for (double ang : kAngles) {
     const Vec3 dir = std::cos(ang) * n0 + std::sin(ang) * m0;

@@ -208,7 +208,7 @@ void appendContactBlocks(const Model& m, const State& s, double h, bool normal_o
                    cp.feature);
       // Projection only: a penetrating ring also gets neighbouring facets of its disc.
       if (normal_only && ws.ring_facets && cp.feature < 2 && cp.gap < 0) {
-        ContactPoint facets[4];
+        ContactPoint facets[kRingFacets];
         const int nf = clearanceRingFacets(cj, poseOf(br), cp, margin, facets);
         for (int f = 0; f < nf; ++f)
           addBlock(facets[f], cj.bearing_body, cj.journal_body, cj.mu, cj.e,

@@ -92,28 +92,38 @@ double removeKineticEnergy(const Model& m, State& s, double amount) {
   return std::min(amount, k);
 }
 
-// The kinetic energy the contact impulses add in this step, Phi = sum_c P_c.u+_c
-// - P.W.P/2 (the change K(v+) - K(v_free) minus the work of the bilateral rows'
-// targets), compared with K(v_free). With e = 0 every term is <= 0 (u_N+ P_N = 0,
-// friction opposes u_T+), so Phi > 0 can only come from restitution.
-bool restitutionGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
+// Whether the impulses of an impact with restitution add energy, by either of
+// two measures, each compared with K(v_free):
+// - the kinetic energy they add, Phi = sum_c P_c.u+_c - P.W.P/2 (the change
+//   K(v+) - K(v_free) minus the work of the bilateral rows' targets). With e = 0
+//   every term is <= 0 (u_N+ P_N = 0, friction opposes u_T+);
+// - their work over the step, sum_c P_c.(theta u+_c + (1 - theta) u_k,c): the
+//   positions move with that velocity, so with gravity alone this is the step's
+//   energy change. It can be positive where a contact separates at the start of
+//   the step, or where friction that stops a sliding point at its end points
+//   along the sliding at its start.
+bool impactGainsEnergy(const Model& m, StepWorkspace& ws, int r) {
   bool any_restitution = false;
   for (const ConstraintBlock& blk : ws.blocks)
     any_restitution = any_restitution || (blk.kind != BlockKind::Bilateral && blk.e > 0);
   if (!any_restitution) return false;
   const auto G = ws.G.topRows(r);
-  double post = 0, wpp = 0;
+  const double theta = m.settings.theta;
+  double post = 0, wpp = 0, work = 0;
   for (const ConstraintBlock& blk : ws.blocks) {
     for (int k = 0; k < blk.size; ++k) {
       const int i = blk.row + k;
       const double u_new = G.row(i).dot(ws.vnew);
       const double u_free = G.row(i).dot(ws.vfree);
       wpp += ws.P[i] * (u_new - u_free);
-      if (blk.kind != BlockKind::Bilateral) post += ws.P[i] * u_new;
+      if (blk.kind == BlockKind::Bilateral) continue;
+      post += ws.P[i] * u_new;
+      work += ws.P[i] * (theta * u_new + (1 - theta) * G.row(i).dot(ws.vk));
     }
   }
   const double phi = post - 0.5 * wpp;
-  return std::isfinite(phi) && phi > 1e-12 * kineticEnergyOf(m, ws, ws.vfree) + 1e-300;
+  const double tol = 1e-12 * kineticEnergyOf(m, ws, ws.vfree) + 1e-300;
+  return (std::isfinite(phi) && phi > tol) || (std::isfinite(work) && work > tol);
 }
 
 // M^-1 restricted to the allowed directions: B (B^T A B)^-1 B^T (B = I unless planar).
@@ -384,10 +394,11 @@ StepStatus Simulator::step() {
     }
     applyImpulses();
     bool plastic = false;
-    if (st.active_contacts > 0 && restitutionGainsEnergy(m, ws, r)) {
+    if (st.active_contacts > 0 && impactGainsEnergy(m, ws, r)) {
       // Newton's law at several coupled frictional points can add kinetic energy
-      // (it is only proven dissipative for one point). The impact is then taken
-      // as plastic (e = 0), which cannot gain; see restitutionGainsEnergy.
+      // (it is only proven dissipative for one point), and with theta = 1/2 the
+      // impulses can do positive work over the step. The impact is then taken as
+      // plastic (e = 0); see impactGainsEnergy.
       removeRestitution();
       rep = ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, o, ws.P.head(r));
       applyImpulses();
