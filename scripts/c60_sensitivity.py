@@ -68,13 +68,14 @@ scene.
   penetration reaches 0.24 mm. In planar mode (`--set planar=true`), 35% of the steps do not
   converge and the penetration reaches 0.9 um. Neither is a result.
 - **x0.2 (9-17 um; S3 1.2 um)** is the smallest scale that runs without penetration
-  (1 nm), and its trip is clean. Its bench force still has spikes (15.49-15.92 N during
-  the hold), at 129 solver sweeps per step on average (300 with the morning's engine),
-  and 304 of its 5400 steps end unconverged. Its "hysteresis" (0.150 N, now in line with
-  the other scales) is kept marked as noise.
+  (1 nm). Its bench force still varies by +-0.18 N during the hold (15.53-15.88 N), at 20
+  solver sweeps per step on average (300 with the morning's engine) and 31 unconverged
+  steps of 5400. Its "hysteresis" (0.151 N, in line with the other scales) is kept marked
+  as noise. Its trip's largest probe force, 11.8 N, comes at 0.41 mm of travel, before
+  the latch's quasi-static peak: the stiffer loop rings after the first contact.
 - **x0.5** is the smallest scale where both runs are clean. Its bench equilibrium force is
-  not unique, though: engine builds that differ only in round-off gave 15.28, 15.51, 15.54
-  and 15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
+  not unique, though: engine builds that differ only in round-off gave 15.28, 15.51, 15.54,
+  15.57 and 15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
 
 The engine issue is reported in docs/c60.md.
 
