@@ -182,7 +182,8 @@ RingAngle ringMinimiser(const RingCoef& k, double hint) {
 }  // namespace
 
 ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, double R,
-                                const Vec3& o, const Vec3& a, double rj, double& phi) {
+                                const Vec3& o, const Vec3& a, double rj, double& phi,
+                                bool track_angle) {
   const Vec3 e2 = n.cross(e1);
   const Vec3 w0 = c - o;
   if (n.cross(a).squaredNorm() < 1e-24) {
@@ -194,7 +195,7 @@ ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, do
     const double enorm = std::sqrt(ex * ex + ey * ey);
     Vec3 dir;
     if (enorm > 0) {
-      phi = std::atan2(ey, ex);
+      if (track_angle) phi = std::atan2(ey, ex);
       dir = (ex / enorm) * e1 + (ey / enorm) * e2;
     } else {  // concentric: every ring point; keep the hint's
       phi = std::isfinite(phi) ? std::remainder(phi, 2 * kPi) : 0.0;
@@ -253,7 +254,8 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
   const int rings = planar ? 1 : 2;
   for (int k = 0; k < rings; ++k) {
     const double at = planar ? 0.0 : (k == 0 ? -half : half);
-    ContactPoint cp = ringJournalContact(cb + at * nb, nb, e1, R, oj, aj, cj.radius, phi_hint[k]);
+    ContactPoint cp =
+        ringJournalContact(cb + at * nb, nb, e1, R, oj, aj, cj.radius, phi_hint[k], !planar);
     cp.feature = k;
     if (cp.gap < margin) out[n++] = cp;
   }

@@ -7,7 +7,8 @@
 
 namespace nscd {
 
-void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r) {
+void assembleDelassus(const Eigen::MatrixXd& Minv, bool block_diagonal, StepWorkspace& ws,
+                      int from, int r) {
   // Bodies of each row (kGround = none).
   for (const ConstraintBlock& blk : ws.blocks) {
     const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
@@ -19,7 +20,11 @@ void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, 
     y.setZero();
     for (int body : ws.row_bodies[i]) {
       if (body == kGround) continue;
-      y.noalias() += Minv.middleCols<6>(6 * body) * ws.G.row(i).segment<6>(6 * body).transpose();
+      const Vec6 g = ws.G.row(i).segment<6>(6 * body).transpose();
+      if (block_diagonal)  // no coupling between bodies: only this body's 6 x 6 block
+        y.segment<6>(6 * body).noalias() += Minv.block<6, 6>(6 * body, 6 * body) * g;
+      else
+        y.noalias() += Minv.middleCols<6>(6 * body) * g;
     }
   }
   for (int i = from; i < r; ++i) {

@@ -121,7 +121,7 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
       else
         ws.b[blk.row] = blk.cp.gap;
     }
-    assembleDelassus(ws.Mproj, ws, 0, r);
+    assembleDelassus(ws.Mproj, true, ws, 0, r);  // M^-1: one block per body
     ws.P.head(r).setZero();
     const SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));

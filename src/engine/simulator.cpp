@@ -331,7 +331,7 @@ StepStatus Simulator::step() {
   const auto assembleAndSolve = [&](int kept) {
     const int r = ws.rows;
     auto G = ws.G.topRows(r);
-    assembleDelassus(ws.Minv, ws, kept, r);  // rows below `kept` are already there
+    assembleDelassus(ws.Minv, !stiff, ws, kept, r);  // rows below `kept` are already there
     ws.b.head(r).noalias() = G * ws.vfree;
     ws.problem.clear();
     st.active_contacts = 0;

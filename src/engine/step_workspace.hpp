@@ -156,7 +156,10 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
 // delassus_operator.cpp: Y = Minv G^T and W = G Y for rows [0, r), from the two
 // bodies of each row. Columns of Y and rows/columns of W below `from` are kept as
 // they are (rows appended to a problem already assembled).
-void assembleDelassus(const Eigen::MatrixXd& Minv, StepWorkspace& ws, int from, int r);
+// block_diagonal: Minv couples no two bodies (no stiff force element), so each row
+// is mapped by its bodies' 6 x 6 blocks alone.
+void assembleDelassus(const Eigen::MatrixXd& Minv, bool block_diagonal, StepWorkspace& ws,
+                      int from, int r);
 
 // projection.cpp: combined projection of positions onto the constraints.
 // Returns the number of passes; writes the remaining violation.
