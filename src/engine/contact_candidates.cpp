@@ -120,11 +120,11 @@ void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, 
 // within the step is not small against the local curvature (a light body
 // crossing a tight clearance in one step): the prediction is then no better
 // than q_k, and can be far worse (a normal that flips).
+const double kMinPredictedCos = std::cos(kMaxPredictedTurn);
 const ContactPoint* predictedFeature(const ContactPoint& cp, const ContactPoint* ahead, int na) {
-  static const double kMinCos = std::cos(kMaxPredictedTurn);
   for (int i = 0; i < na; ++i)
     if (ahead[i].feature == cp.feature)
-      return ahead[i].normal.dot(cp.normal) >= kMinCos ? &ahead[i] : nullptr;
+      return ahead[i].normal.dot(cp.normal) >= kMinPredictedCos ? &ahead[i] : nullptr;
   return nullptr;
 }
 

@@ -88,12 +88,11 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
   SolverOptions opt;
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
-  ws.ring_facets = false;
+  // Penetrating rings get tangent facets from the first pass; backtracking
+  // (below) only from the second, which is needed only where the first pass was
+  // not enough.
+  ws.ring_facets = true;
   for (int pass = 0;; ++pass) {
-    // Penetrating rings get tangent facets from the first pass; backtracking
-    // (below) only from the second, which is needed only where the first pass
-    // was not enough.
-    ws.ring_facets = true;
     gatherPositionRows(m, s, commands, ws, extra);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);

@@ -42,13 +42,16 @@ constexpr double kFrictionlessFallbackResidual = 1e-3;
 // Re-solves per step for contacts closed by the answer (activateLateContacts).
 constexpr int kLateActivationRounds = 3;
 
+// Kinetic energy of one body (v world, w body frame).
+double bodyKineticEnergy(const Body& body, const Vec3& v, const Vec3& w) {
+  return 0.5 * (body.mass * v.squaredNorm() + w.dot(body.inertia * w));
+}
+
 // Kinetic energy of the generalized velocity v (linear world, angular body frame).
 double kineticEnergyOf(const Model& m, const StepWorkspace& ws, const Eigen::VectorXd& v) {
   double k = 0;
-  for (int b = 0; b < ws.nbodies; ++b) {
-    const Eigen::Vector3d lin = v.segment<3>(6 * b), ang = v.segment<3>(6 * b + 3);
-    k += 0.5 * (m.bodies[b].mass * lin.squaredNorm() + ang.dot(m.bodies[b].inertia * ang));
-  }
+  for (int b = 0; b < ws.nbodies; ++b)
+    k += bodyKineticEnergy(m.bodies[b], v.segment<3>(6 * b), v.segment<3>(6 * b + 3));
   return k;
 }
 
@@ -71,10 +74,8 @@ EnergyReport potentialEnergyOf(const Model& m, const State& s) {
 
 double kineticEnergyOf(const Model& m, const State& s) {
   double k = 0;
-  for (size_t i = 0; i < m.bodies.size(); ++i) {
-    const BodyState& b = s.bodies[i];
-    k += 0.5 * (m.bodies[i].mass * b.v.squaredNorm() + b.w.dot(m.bodies[i].inertia * b.w));
-  }
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    k += bodyKineticEnergy(m.bodies[i], s.bodies[i].v, s.bodies[i].w);
   return k;
 }
 
@@ -306,11 +307,11 @@ StepStatus Simulator::step() {
   ws.vfree.noalias() += ws.Minv * ws.rhs;
   addGyroscopicImpulses(m, h, ws);
 
-  // 2. constraint rows. Contact rows are evaluated at q_k + ahead v_k (by
-  // default the end of the step as predicted by v_k, Siconos's convention): a
-  // contact that slides around a curved surface, or lies on a rotating body far
-  // from its centre of mass, then keeps its gap to O(h^3) per step instead of
-  // drifting by O(h^2) (see docs/siconos_comparison.md).
+  // 2. constraint rows. Contact rows are built at q_k + ahead v_k (by default
+  // the end of the step as predicted by v_k, Siconos's convention): a contact
+  // that slides around a curved surface, or lies on a rotating body far from
+  // its centre of mass, then no longer drifts by O(h^2) per step (see
+  // docs/siconos_comparison.md).
   appendBilateralBlocks(m, state_, commands_, ws.rates, ws);
   const double ahead = set.contact_prediction * h;
   if (ahead > 0) predictState(state_, ahead, ws.predicted);

@@ -119,9 +119,9 @@ inline const BodyState& bodyOrGround(const State& s, int body) {
 
 // ---- stages (each in its own file) ----
 
-// forces.cpp: generalized forces at the state; with jacobians, K and C too.
 // forces.cpp: gyroscopic impulses added to ws.vfree (backward Euler per body).
 void addGyroscopicImpulses(const Model& m, double h, StepWorkspace& ws);
+// forces.cpp: generalized forces at the state; with jacobians, K and C too.
 void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
                    StepWorkspace& ws, bool with_jacobians);
 double jointPosition(const Model& m, const State& s, int joint);
@@ -169,9 +169,9 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
 // time_integration.cpp: x_{k+1}, q_{k+1} from v_k, v_{k+1}.
 void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::VectorXd& vnew,
                         double h, double theta);
-// out = s with positions advanced by `ahead` * v (velocities kept); returns out.
+// out = s with positions advanced by `ahead` * v (velocities kept).
 // out.bodies must have s's size (no allocation).
-const State& predictState(const State& s, double ahead, State& out);
+void predictState(const State& s, double ahead, State& out);
 void applyDisplacement(State& s, const Eigen::VectorXd& dq);
 void stateVelocities(const State& s, Eigen::VectorXd& v);
 void setStateVelocities(State& s, const Eigen::VectorXd& v);

@@ -28,7 +28,7 @@ void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::Vector
   }
 }
 
-const State& predictState(const State& s, double ahead, State& out) {
+void predictState(const State& s, double ahead, State& out) {
   out.t = s.t + ahead;
   for (size_t i = 0; i < s.bodies.size(); ++i) {
     const BodyState& b = s.bodies[i];
@@ -37,7 +37,6 @@ const State& predictState(const State& s, double ahead, State& out) {
     p.x += ahead * b.v;
     p.q = (b.q * expMap(ahead * b.w)).normalized();
   }
-  return out;
 }
 
 void applyDisplacement(State& s, const Eigen::VectorXd& dq) {
