@@ -33,6 +33,7 @@
 
 #include "contact_markers.hpp"
 #include "nscd_sim/ContactArray.h"
+#include "nscd_sim/KeyFigures.h"
 #include "nscd_sim/Step.h"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
@@ -190,8 +191,15 @@ void warnUnknownParams(const ros::NodeHandle& pnh) {
 // ~scene (a file) if set, else robot_description. Throws nscd::SceneError.
 nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   const std::vector<nscd::SettingOverride> overrides = settingOverridesFromParams(pnh);
-  std::string path;
-  if (pnh.getParam("scene", path) && !path.empty()) return nscd::loadScene(path, overrides);
+  XmlRpc::XmlRpcValue scene;
+  if (pnh.getParam("scene", scene)) {
+    if (scene.getType() != XmlRpc::XmlRpcValue::TypeString)
+      throw nscd::SceneError("parameter " + pnh.resolveName("scene") +
+                             ": expected a string (the scene file's path), got " +
+                             paramTypeName(scene));
+    const std::string path = static_cast<std::string>(scene);
+    if (!path.empty()) return nscd::loadScene(path, overrides);
+  }
   std::string xml;
   if (nh.getParam("robot_description", xml) && !xml.empty())
     return nscd::loadSceneFromString(xml, nh.resolveName("robot_description"), overrides);
@@ -228,6 +236,12 @@ class SimNode {
     tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>(
         "/tf", 100, [this](const ros::SingleSubscriberPublisher& p) { onTfSubscriber(p); });
     contacts_pub_ = pnh_.advertise<nscd_sim::ContactArray>("contacts", 2);
+    key_figures_pub_ = pnh_.advertise<nscd_sim::KeyFigures>("key_figures", 10);
+    for (const nscd::Actuator& a : model.actuators) {
+      key_figures_msg_.names.push_back(a.name + ".cmd");
+      key_figures_msg_.names.push_back(a.name + ".effort");
+    }
+    key_figures_msg_.values.resize(key_figures_msg_.names.size());
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("contact_markers", 2);
     diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 2);
     if (opt_.use_sim_time) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 2);
@@ -401,6 +415,7 @@ class SimNode {
     if (std::isfinite(value)) {
       const auto lock = callbackLock();
       accepted = sim_->setCommand(actuator, value);
+      if (accepted) publish_requested_ = true;  // ~key_figures shows the new command
       for (ScheduledCommand& c : schedules_)
         if (accepted && c.actuator == actuator && c.active) {
           c.active = false;
@@ -419,6 +434,8 @@ class SimNode {
       sim_->reset();
       restartSchedules();
       steps_ = 0;
+      window_.unconverged_total = 0;
+      window_.step_failures = 0;
       failed_ = false;
       failure_.clear();
       updateRunning();
@@ -499,6 +516,7 @@ class SimNode {
   void publishState() {
     const bool want_contacts = contacts_pub_.getNumSubscribers() > 0;
     const bool want_markers = markers_pub_.getNumSubscribers() > 0;
+    const bool want_key_figures = key_figures_pub_.getNumSubscribers() > 0;
     double t;
     bool publish_tf;
     {
@@ -528,6 +546,15 @@ class SimNode {
         for (size_t i = 0; i < reports.size(); ++i)
           toContactMsg(model, reports[i], contacts_msg_.contacts[i]);
       }
+      if (want_key_figures) {
+        key_figures_msg_.header.stamp = stamp;
+        key_figures_msg_.sim_time = t;
+        key_figures_msg_.steps = steps_;
+        for (size_t i = 0; i < model.actuators.size(); ++i) {
+          key_figures_msg_.values[2 * i] = sim_->command(static_cast<int>(i));
+          key_figures_msg_.values[2 * i + 1] = sim_->actuatorEffort(static_cast<int>(i));
+        }
+      }
       if (want_markers) {
         for (size_t i = 0; i < eccentricity_.size(); ++i)
           eccentricity_[i] = eccentricityView(*sim_, static_cast<int>(i));
@@ -539,6 +566,7 @@ class SimNode {
       ++window_publishes_;
     }
     if (want_contacts) contacts_pub_.publish(contacts_msg_);
+    if (want_key_figures) key_figures_pub_.publish(key_figures_msg_);
     if (want_markers) markers_pub_.publish(markers_msg_);
     if (opt_.use_sim_time) {
       rosgraph_msgs::Clock clock;
@@ -606,10 +634,11 @@ class SimNode {
   ros::Time last_tf_stamp_;
   bool have_tf_stamp_ = false;
   nscd_sim::ContactArray contacts_msg_;
+  nscd_sim::KeyFigures key_figures_msg_;  // names fixed at start, values per publication
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<EccentricityView> eccentricity_;
 
-  ros::Publisher tf_pub_, contacts_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
+  ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
   std::vector<ros::Subscriber> command_subs_;
   std::set<std::string> actuator_names_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
@@ -631,12 +660,8 @@ int main(int argc, char** argv) {
   try {
     options = nscd_node::readNodeOptions(pnh);
     nscd::Model model = nscd_node::loadModel(nh, pnh);
-    const std::string source = model.source_file;
-    try {
-      sim = std::make_unique<nscd::Simulator>(std::move(model));
-    } catch (const std::exception& e) {
-      throw nscd::SceneError(source + ": " + e.what());
-    }
+    // The engine's assembly errors already name the scene file.
+    sim = std::make_unique<nscd::Simulator>(std::move(model));
     schedules = nscd_node::parseSchedules(pnh, options.schedules, sim->model());
   } catch (const std::exception& e) {
     ROS_FATAL("%s", e.what());

@@ -73,6 +73,20 @@ static std::string formatDouble(double v) {
   return buf;
 }
 
+std::string paramTypeName(const XmlRpc::XmlRpcValue& value) {
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return "a boolean";
+    case XmlRpc::XmlRpcValue::TypeInt: return "an integer";
+    case XmlRpc::XmlRpcValue::TypeDouble: return "a number";
+    case XmlRpc::XmlRpcValue::TypeString: return "a string";
+    case XmlRpc::XmlRpcValue::TypeDateTime: return "a date";
+    case XmlRpc::XmlRpcValue::TypeBase64: return "binary data";
+    case XmlRpc::XmlRpcValue::TypeArray: return "a list";
+    case XmlRpc::XmlRpcValue::TypeStruct: return "a dictionary";
+    default: return "no value";
+  }
+}
+
 bool paramToString(const XmlRpc::XmlRpcValue& value, std::string& out) {
   XmlRpc::XmlRpcValue v = value;  // the accessors are non-const
   switch (v.getType()) {

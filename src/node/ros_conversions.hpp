@@ -33,6 +33,9 @@ void toContactMsg(const nscd::Model& model, const nscd::ContactReport& c, nscd_s
 // False if the value has a type no setting can take (struct, binary, ...).
 bool paramToString(const XmlRpc::XmlRpcValue& value, std::string& out);
 
+// "an integer", "a string", ...: a parameter value's type, for error messages.
+std::string paramTypeName(const XmlRpc::XmlRpcValue& value);
+
 // Every private parameter whose name is a simulation setting key (nscd::settingKeys()),
 // as overrides in key order. Throws nscd::SceneError on a value of unusable type.
 std::vector<nscd::SettingOverride> settingOverridesFromParams(const ros::NodeHandle& pnh);

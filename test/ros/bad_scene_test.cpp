@@ -111,6 +111,26 @@ TEST(BadScene, BadNodeParameterExits) {
   EXPECT_NE(r.output.find("publish_rate"), std::string::npos) << r.output;
 }
 
+// ~scene of the wrong type says so (not "no scene").
+TEST(BadScene, SceneParameterOfWrongTypeExits) {
+  const RunResult r = runNode({"__name:=scene_int", "_scene:=42"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("expected a string"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("got an integer"), std::string::npos) << r.output;
+}
+
+// A scene that loads but cannot be assembled (two hinges on one body, 1 m apart):
+// one FATAL line that names the file once.
+TEST(BadScene, AssemblyFailureNamesTheFileOnce) {
+  const std::string file = kSource + "/test/ros/assembly_fails.urdf";
+  const RunResult r = runNode({"__name:=assembly_fails", "_scene:=" + file});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("assembly failed"), std::string::npos) << r.output;
+  const size_t first = r.output.find(file);
+  ASSERT_NE(first, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(file, first + 1), std::string::npos) << "file named twice: " << r.output;
+}
+
 // A schedule for an actuator the scene does not have, and a malformed one.
 TEST(BadScene, BadScheduleExits) {
   const std::string pendulum = "_scene:=" + kSource + "/test/ros/actuated_pendulum.urdf";

@@ -4,17 +4,18 @@
 // scenario of scripts/c60_trip.sh) and the breaker trips in the same window as
 // nscd_run (C7 opens at 7.46 ms there).
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
-#include <std_msgs/Float64.h>
-#include <tf2_msgs/TFMessage.h>
 
 #include "nscd_sim/ContactArray.h"
+#include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
 #include "ros_test_support.hpp"
-
-using nscd_test::nodeTopic;
 
 namespace {
 
@@ -32,79 +33,108 @@ bool hasContact(const nscd_sim::ContactArray& m, const std::string& name) {
   return false;
 }
 
-nscd_sim::ContactArrayConstPtr contactsAfter(double sim_time, double timeout) {
-  return nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"),
-      [&](const nscd_sim::ContactArray& m) { return m.sim_time >= sim_time; }, timeout);
+std::unique_ptr<nscd_test::SteppedNode> g_node;
+
+// Steps the paused node in chunks of `chunk` steps until `pred` holds for the
+// published ~contacts or `max_steps` are taken; the first such message (null if none).
+nscd_sim::ContactArrayConstPtr stepUntil(uint32_t chunk, uint32_t max_steps,
+                                         const std::function<bool(const nscd_sim::ContactArray&)>& pred) {
+  for (uint32_t taken = 0; taken < max_steps; taken += chunk) {
+    auto m = g_node->step(chunk, 60.0);
+    if (!m) return {};
+    if (pred(*m)) return m;
+  }
+  return {};
 }
 
-// Rotation of the handle about the breaker's axis (z), from /tf.
-double handleAngle(double timeout = 10.0) {
-  auto msg = nscd_test::waitForMessage<tf2_msgs::TFMessage>(
-      "/tf",
-      [](const tf2_msgs::TFMessage& m) {
-        for (const auto& t : m.transforms)
-          if (t.child_frame_id == "handle") return true;
-        return false;
-      },
-      timeout);
-  if (!msg) return NAN;
-  for (const auto& t : msg->transforms)
-    if (t.child_frame_id == "handle") return nscd_test::yawOf(t.transform.rotation);
+// The same run in-process: steps until the named contact has no active point
+// (C7 open); the sim time then, or NaN after max_steps.
+double inProcessOpening(nscd::Simulator& sim, uint32_t chunk, uint32_t max_steps,
+                        const std::function<void(nscd::Simulator&)>& before_step) {
+  for (uint32_t taken = 0; taken < max_steps; taken += chunk) {
+    for (uint32_t i = 0; i < chunk; ++i) {
+      before_step(sim);
+      sim.step();
+    }
+    bool c7 = false;
+    for (const nscd::ContactReport& r : sim.contacts())
+      c7 = c7 || (!r.clearance && sim.model().contacts[r.source].name == "C7");
+    if (!c7) return sim.state().t;
+  }
   return NAN;
 }
 
 }  // namespace
 
+// Both tests start the node paused (c60_node.test, c60_trip.test) and drive it with
+// ~step in chunks of 10 steps (0.1 ms), so every check holds at a fixed sim time.
+
 // ON and latched: C7 carries the contact pressure (13.4 N in nscd_run), the
 // latch C4 holds. Then handle -> +1.2 rad: the toggle passes dead centre and C7
-// opens (nscd_run: within 3 ms of a step command).
+// opens, at the same step as in an in-process simulator given the same command.
 TEST(C60Node, RestsLatchedAndHandleCommandOpensContacts) {
-  auto on = contactsAfter(0.002, 60.0);
-  ASSERT_TRUE(on) << "no ~contacts with sim_time >= 2 ms";
+  auto on = g_node->step(200, 60.0);  // 2 ms
+  ASSERT_TRUE(on) << "no ~contacts after 200 steps";
   EXPECT_GT(normalForce(*on, "C7"), 10.0) << "contact pressure at rest";
   EXPECT_LT(normalForce(*on, "C7"), 20.0);
   EXPECT_TRUE(hasContact(*on, "C4")) << "latch C4 not closed at rest";
-  const double angle0 = handleAngle();
+  const double angle0 = g_node->yaw("handle");
   ASSERT_TRUE(std::isfinite(angle0));
 
-  ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<std_msgs::Float64>(nodeTopic("handle/command"), 1);
-  std_msgs::Float64 cmd;
-  cmd.data = 1.2;
-  auto before = contactsAfter(0.0, 10.0);
-  ASSERT_TRUE(before);
-  ASSERT_TRUE(nscd_test::publishWhenConnected(pub, cmd));
-  const double t_cmd = before->sim_time;
-
-  // Opened: no C7 point, well after the command (10 ms of sim time at most).
-  auto open = nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"),
-      [&](const nscd_sim::ContactArray& m) { return m.sim_time > t_cmd && !hasContact(m, "C7"); },
-      120.0);
-  ASSERT_TRUE(open) << "the contacts did not open after the handle command";
+  ASSERT_TRUE(g_node->command("handle", 1.2));
+  const double t_cmd = on->sim_time;
+  auto open = stepUntil(10, 1200, [](const nscd_sim::ContactArray& m) { return !hasContact(m, "C7"); });
+  ASSERT_TRUE(open) << "the contacts did not open within 12 ms of the handle command";
   EXPECT_LT(open->sim_time - t_cmd, 0.012) << "opened too late";
-  auto later = contactsAfter(open->sim_time + 0.003, 60.0);
+
+  nscd::Simulator sim(nscd::loadScene(nscd_test::sceneParam()));
+  int handle = -1;
+  for (size_t i = 0; i < sim.model().actuators.size(); ++i)
+    if (sim.model().actuators[i].name == "handle") handle = static_cast<int>(i);
+  ASSERT_GE(handle, 0);
+  for (int i = 0; i < 200; ++i) sim.step();
+  sim.setCommand(handle, 1.2);
+  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1200, [](nscd::Simulator&) {}))
+      << "the node and the engine open C7 at different steps";
+
+  auto later = g_node->step(300, 60.0);
   ASSERT_TRUE(later);
   EXPECT_FALSE(hasContact(*later, "C7")) << "C7 closed again with the handle held OFF";
-  const double angle1 = handleAngle();
-  EXPECT_GT(angle1 - angle0, 0.5) << "handle did not turn towards OFF";
+  EXPECT_GT(g_node->yaw("handle") - angle0, 0.5) << "handle did not turn towards OFF";
 }
 
 // ~schedule: probe still until 0.7 ms, then 0.2 m/s. The latch holds before the
-// probe arrives and the contacts open between 6 and 9 ms (nscd_run: 7.46 ms).
+// probe arrives, the contacts open between 6 and 9 ms (nscd_run: 7.46 ms), at the
+// same step as the engine run in-process with the same schedule.
 TEST(C60Node, ProbeScheduleTripsTheBreaker) {
-  auto early = contactsAfter(0.003, 60.0);
+  auto early = g_node->step(300, 60.0);  // 3 ms
   ASSERT_TRUE(early);
-  ASSERT_LT(early->sim_time, 0.006) << "publishing too sparse to see the closed state";
   EXPECT_GT(normalForce(*early, "C7"), 10.0) << "opened before the probe arrived";
-  auto open = nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"),
-      [&](const nscd_sim::ContactArray& m) { return m.sim_time > 0.003 && !hasContact(m, "C7"); },
-      120.0);
-  ASSERT_TRUE(open) << "the breaker did not trip";
+  auto open = stepUntil(10, 1000, [](const nscd_sim::ContactArray& m) { return !hasContact(m, "C7"); });
+  ASSERT_TRUE(open) << "the breaker did not trip within 13 ms";
   EXPECT_GT(open->sim_time, 0.006);
   EXPECT_LT(open->sim_time, 0.009);
+
+  nscd::Simulator sim(nscd::loadScene(nscd_test::sceneParam()));
+  const nscd::CommandSchedule probe =
+      nscd::parseCommandSchedule("probe=0:0,0.0007:0,0.0207:0.004");
+  int actuator = -1;
+  for (size_t i = 0; i < sim.model().actuators.size(); ++i)
+    if (sim.model().actuators[i].name == "probe") actuator = static_cast<int>(i);
+  ASSERT_GE(actuator, 0);
+  const double dt = sim.model().settings.dt;
+  // As the node and nscd_run: the command at the end of the step.
+  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1300, [&](nscd::Simulator& s) {
+              s.setCommand(actuator, probe.value(s.state().t + dt));
+            }))
+      << "the node and the engine open C7 at different steps";
 }
 
-int main(int argc, char** argv) { return nscd_test::runRosTestNode(argc, argv, "c60_node_test"); }
+int main(int argc, char** argv) {
+  return nscd_test::runRosTestNode(argc, argv, "c60_node_test", [] {
+    g_node = std::make_unique<nscd_test::SteppedNode>();
+    const int result = RUN_ALL_TESTS();
+    g_node.reset();
+    return result;
+  });
+}

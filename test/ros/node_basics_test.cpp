@@ -24,28 +24,9 @@ namespace {
 
 std::unique_ptr<tf2_ros::Buffer> g_tf;
 
-// The first /tf transform of `child` stamped after `after` (null on timeout).
-bool waitForTransform(const std::string& child, const ros::Time& after,
-                      geometry_msgs::TransformStamped& out, double timeout = 5.0) {
-  auto msg = nscd_test::waitForMessage<tf2_msgs::TFMessage>(
-      "/tf",
-      [&](const tf2_msgs::TFMessage& m) {
-        for (const auto& t : m.transforms)
-          if (t.child_frame_id == child && t.header.stamp > after) return true;
-        return false;
-      },
-      timeout);
-  if (!msg) return false;
-  for (const auto& t : msg->transforms)
-    if (t.child_frame_id == child) out = t;
-  return true;
-}
+std::unique_ptr<nscd_test::SteppedNode> g_node;
 
-double armYaw() {
-  geometry_msgs::TransformStamped t;
-  if (!waitForTransform("arm", ros::Time::now(), t)) return NAN;
-  return nscd_test::yawOf(t.transform.rotation);
-}
+double armYaw() { return g_node->yaw("arm"); }
 
 void expectPoseEq(const geometry_msgs::Transform& t, const nscd::Pose& p, double tol) {
   EXPECT_NEAR(t.translation.x, p.p.x(), tol);
@@ -67,13 +48,10 @@ diagnostic_msgs::DiagnosticArray::ConstPtr waitForDiagnosticLevel(uint8_t level)
       5.0);
 }
 
-bool setPaused(bool paused) {
-  std_srvs::SetBool srv;
-  srv.request.data = paused;
-  return nscd_test::callService(nodeTopic("pause"), srv) && srv.response.success;
-}
-
 }  // namespace
+
+// The node starts paused (node_basics.test) and every test drives it with ~step,
+// so what it checks happens at a fixed sim time whatever the machine's load.
 
 // Every link but the world frame appears in tf within a few seconds, at the
 // pose the engine gives (the arm is at rest: no gravity torque, command 0).
@@ -95,48 +73,46 @@ TEST(NodeBasics, TransformForEveryLink) {
   EXPECT_EQ(checked, 3);  // base, arm, tip
 }
 
-// A position command turns the arm toward the target and it settles there.
+// A position command turns the arm toward the target, and within 8 s of sim
+// time (kp 20, kd 2.5: about 2 s time constant) it settles there. The same
+// steps in an in-process simulator give the same angle.
 TEST(NodeBasics, CommandMovesJointTowardTarget) {
-  ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<std_msgs::Float64>(nodeTopic("hinge_motor/command"), 1);
-  std_msgs::Float64 cmd;
-  cmd.data = 0.6;
-  ASSERT_TRUE(nscd_test::publishWhenConnected(pub, cmd));
-  double yaw = armYaw();
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(8.0);
+  ASSERT_TRUE(g_node->command("hinge_motor", 0.6));
+  nscd::Simulator sim(nscd::loadScene(nscd_test::sceneParam()));
+  sim.setCommand(0, 0.6);
   double first_moved = NAN;
-  while (ros::WallTime::now() < end && !(std::abs(yaw - 0.6) < 0.01)) {
-    ros::WallDuration(0.05).sleep();
-    yaw = armYaw();
+  for (int chunk = 0; chunk < 32; ++chunk) {  // 32 x 250 steps of 1 ms
+    ASSERT_TRUE(g_node->step(250)) << "chunk " << chunk;
+    const double yaw = armYaw();
     if (std::isnan(first_moved) && std::abs(yaw) > 1e-3) first_moved = yaw;
   }
+  for (int i = 0; i < 8000; ++i) sim.step();
   EXPECT_GT(first_moved, 0.0) << "the arm first moved away from the target";
-  EXPECT_NEAR(yaw, 0.6, 0.01);
+  EXPECT_NEAR(armYaw(), 0.6, 0.01);
+  int arm_link = -1;
+  for (size_t i = 0; i < sim.model().links.size(); ++i)
+    if (sim.model().links[i].name == "arm") arm_link = static_cast<int>(i);
+  ASSERT_GE(arm_link, 0);
+  const nscd::Pose arm = sim.linkPose(arm_link);
+  EXPECT_NEAR(armYaw(), 2.0 * std::atan2(arm.q.z(), arm.q.w()), 1e-9) << "node != engine";
 }
 
 // NaN and infinite commands, and a command on a topic with no actuator, are
-// ignored: the node keeps running and the arm keeps the last good target.
+// ignored: the node keeps stepping and the arm keeps the last good target.
 TEST(NodeBasics, MalformedCommandIsIgnored) {
-  ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<std_msgs::Float64>(nodeTopic("hinge_motor/command"), 3);
+  g_node->publishCommand("hinge_motor", NAN);
+  g_node->publishCommand("hinge_motor", INFINITY);
+  g_node->publishCommand("hinge_motor", -INFINITY);
+  ros::NodeHandle nh;  // nobody subscribes to it: publish without waiting
   ros::Publisher unknown = nh.advertise<std_msgs::Float64>(nodeTopic("no_such/command"), 1);
-  std_msgs::Float64 cmd;
-  cmd.data = NAN;
-  ASSERT_TRUE(nscd_test::publishWhenConnected(pub, cmd));
-  ros::WallDuration(0.05).sleep();
-  cmd.data = INFINITY;
-  pub.publish(cmd);
-  ros::WallDuration(0.05).sleep();
-  cmd.data = -INFINITY;
-  pub.publish(cmd);
-  cmd.data = 3.0;
-  unknown.publish(cmd);
-  ros::WallDuration(1.0).sleep();
-
-  EXPECT_NEAR(armYaw(), 0.6, 0.01);
-  std_srvs::SetBool srv;  // still serving
-  srv.request.data = false;
-  EXPECT_TRUE(nscd_test::callService(nodeTopic("pause"), srv, 2.0));
+  std_msgs::Float64 three;
+  three.data = 3.0;
+  unknown.publish(three);
+  // Same publisher, same connection: these land in order, after the bad ones.
+  ASSERT_TRUE(g_node->command("hinge_motor", 0.61));
+  ASSERT_TRUE(g_node->step(1000)) << "a bad command broke stepping";
+  EXPECT_NEAR(armYaw(), 0.6, 0.015);
+  EXPECT_EQ(g_node->keyFigure("hinge_motor.cmd"), 0.61);
 }
 
 // ~reset brings every link back to the initial pose, sim time to 0 and the
@@ -146,37 +122,34 @@ TEST(NodeBasics, ResetRestoresInitialPose) {
   nscd::Simulator sim(model);
   ASSERT_GT(std::abs(armYaw()), 0.5) << "the arm should have moved before the reset";
 
-  ASSERT_TRUE(setPaused(true));
   std_srvs::Empty reset;
   ASSERT_TRUE(nscd_test::callService(nodeTopic("reset"), reset));
-  const ros::Time after = ros::Time::now();
+  auto contacts = g_node->waitForContacts(
+      [](const nscd_sim::ContactArray& m) { return m.steps == 0; }, 5.0);
+  ASSERT_TRUE(contacts);
+  EXPECT_EQ(contacts->sim_time, 0.0);
   for (size_t i = 0; i < model.links.size(); ++i) {
     if (model.links[i].name == model.world_frame) continue;
     geometry_msgs::TransformStamped t;
-    ASSERT_TRUE(waitForTransform(model.links[i].name, after, t)) << model.links[i].name;
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(5.0);
+    while (ros::WallTime::now() < end &&
+           !(g_node->transform(model.links[i].name, t) && t.header.stamp >= contacts->header.stamp))
+      ros::WallDuration(0.002).sleep();
+    ASSERT_GE(t.header.stamp, contacts->header.stamp) << model.links[i].name;
     expectPoseEq(t.transform, sim.linkPose(static_cast<int>(i)), 1e-12);
   }
-  auto contacts = nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"),
-      [&](const nscd_sim::ContactArray& m) { return m.header.stamp > after; }, 5.0);
-  ASSERT_TRUE(contacts);
-  EXPECT_EQ(contacts->sim_time, 0.0);
-  EXPECT_EQ(contacts->steps, 0u);
-
-  // The command went back to its initial value 0: resumed, the arm stays put.
-  ASSERT_TRUE(setPaused(false));
-  ros::WallDuration(0.5).sleep();
+  // The command went back to its initial value 0: stepped, the arm stays put.
+  ASSERT_TRUE(g_node->step(500));
+  EXPECT_EQ(g_node->keyFigure("hinge_motor.cmd"), 0.0);
   EXPECT_NEAR(armYaw(), 0.0, 1e-6);
 }
 
 // A step that fails (a force of 1e308 N overflows the state) is reported on
 // /diagnostics as an ERROR with its time, stops stepping, and ~reset recovers.
 TEST(NodeBasics, FailedStepPausesUntilReset) {
-  ros::NodeHandle nh;
-  ros::Publisher pub = nh.advertise<std_msgs::Float64>(nodeTopic("push/command"), 1);
-  std_msgs::Float64 cmd;
-  cmd.data = 1e308;
-  ASSERT_TRUE(nscd_test::publishWhenConnected(pub, cmd));
+  ASSERT_TRUE(g_node->command("push", 1e308));
+  EXPECT_FALSE(g_node->step(1)) << "the overflowing step should fail";
+  EXPECT_FALSE(g_node->lastStepSucceeded());
 
   using diagnostic_msgs::DiagnosticStatus;
   auto error = waitForDiagnosticLevel(DiagnosticStatus::ERROR);
@@ -184,20 +157,14 @@ TEST(NodeBasics, FailedStepPausesUntilReset) {
   EXPECT_NE(error->status[0].message.find("step failed at t="), std::string::npos)
       << error->status[0].message;
 
-  nscd_sim::Step step;  // stepping stays blocked until the reset
-  step.request.count = 1;
-  ASSERT_TRUE(nscd_test::callService(nodeTopic("step"), step));
-  EXPECT_FALSE(step.response.success);
-  EXPECT_EQ(step.response.steps_taken, 0u);
+  EXPECT_FALSE(g_node->step(1)) << "stepping stays blocked until the reset";
+  EXPECT_EQ(g_node->lastStepsTaken(), 0u);
 
   std_srvs::Empty reset;
   ASSERT_TRUE(nscd_test::callService(nodeTopic("reset"), reset));
   auto ok = waitForDiagnosticLevel(DiagnosticStatus::OK);
   ASSERT_TRUE(ok);
-  auto later = nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"), [](const nscd_sim::ContactArray& m) { return m.sim_time > 0.2; },
-      5.0);
-  EXPECT_TRUE(later) << "stepping did not resume after ~reset";
+  ASSERT_TRUE(g_node->step(200)) << "stepping did not resume after ~reset";
   EXPECT_NEAR(armYaw(), 0.0, 1e-6);
 }
 
@@ -205,6 +172,9 @@ int main(int argc, char** argv) {
   return nscd_test::runRosTestNode(argc, argv, "node_basics_test", [] {
     g_tf = std::make_unique<tf2_ros::Buffer>();
     tf2_ros::TransformListener listener(*g_tf);
-    return RUN_ALL_TESTS();
+    g_node = std::make_unique<nscd_test::SteppedNode>();
+    const int result = RUN_ALL_TESTS();
+    g_node.reset();
+    return result;
   });
 }

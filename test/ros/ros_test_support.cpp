@@ -3,6 +3,10 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <std_msgs/Float64.h>
+#include <std_srvs/SetBool.h>
+
+#include "nscd_sim/Step.h"
 
 namespace nscd_test {
 
@@ -30,6 +34,118 @@ std::string sceneParam() {
 
 double yawOf(const geometry_msgs::Quaternion& q) {
   return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+SteppedNode::SteppedNode() {
+  tf_sub_ = nh_.subscribe<tf2_msgs::TFMessage>(
+      "/tf", 100, [this](const tf2_msgs::TFMessageConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const auto& t : m->transforms) tf_[t.child_frame_id] = t;
+      });
+  contacts_sub_ = nh_.subscribe<nscd_sim::ContactArray>(
+      nodeTopic("contacts"), 10, [this](const nscd_sim::ContactArrayConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        contacts_ = m;
+      });
+  figures_sub_ = nh_.subscribe<nscd_sim::KeyFigures>(
+      nodeTopic("key_figures"), 10, [this](const nscd_sim::KeyFiguresConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        figures_ = m;
+      });
+}
+
+bool SteppedNode::setPaused(bool paused) {
+  std_srvs::SetBool srv;
+  srv.request.data = paused;
+  return callService(nodeTopic("pause"), srv) && srv.response.success;
+}
+
+nscd_sim::ContactArrayConstPtr SteppedNode::waitForContacts(
+    const std::function<bool(const nscd_sim::ContactArray&)>& pred, double timeout) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (contacts_ && pred(*contacts_)) return contacts_;
+    }
+    ros::WallDuration(0.002).sleep();
+  }
+  return {};
+}
+
+nscd_sim::ContactArrayConstPtr SteppedNode::step(uint32_t count, double timeout) {
+  nscd_sim::Step srv;
+  srv.request.count = count;
+  last_steps_taken_ = 0;
+  last_step_success_ = false;
+  if (!callService(nodeTopic("step"), srv, timeout)) return {};
+  last_steps_taken_ = srv.response.steps_taken;
+  last_step_success_ = srv.response.success;
+  if (!srv.response.success || srv.response.steps_taken != std::max<uint32_t>(count, 1)) return {};
+  const double t = srv.response.sim_time;
+  auto contacts =
+      waitForContacts([t](const nscd_sim::ContactArray& m) { return m.sim_time == t; }, timeout);
+  if (!contacts) return {};
+  // /tf of the same publication (same stamp) or a later one: the same poses.
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      bool all = !tf_.empty();
+      for (const auto& kv : tf_) all = all && kv.second.header.stamp >= contacts->header.stamp;
+      if (all) return contacts;
+    }
+    ros::WallDuration(0.002).sleep();
+  }
+  return {};
+}
+
+ros::Publisher& SteppedNode::commandPublisher(const std::string& actuator) {
+  auto it = command_pubs_.find(actuator);
+  if (it == command_pubs_.end())
+    it = command_pubs_
+             .emplace(actuator, nh_.advertise<std_msgs::Float64>(
+                                    nodeTopic(actuator + "/command"), 10))
+             .first;
+  return it->second;
+}
+
+void SteppedNode::publishCommand(const std::string& actuator, double value) {
+  std_msgs::Float64 msg;
+  msg.data = value;
+  publishWhenConnected(commandPublisher(actuator), msg);
+}
+
+bool SteppedNode::command(const std::string& actuator, double value, double timeout) {
+  publishCommand(actuator, value);
+  const std::string name = actuator + ".cmd";
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (keyFigure(name) == value) return true;
+    ros::WallDuration(0.002).sleep();
+  }
+  return false;
+}
+
+double SteppedNode::keyFigure(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!figures_) return NAN;
+  for (size_t i = 0; i < figures_->names.size() && i < figures_->values.size(); ++i)
+    if (figures_->names[i] == name) return figures_->values[i];
+  return NAN;
+}
+
+bool SteppedNode::transform(const std::string& child, geometry_msgs::TransformStamped& out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = tf_.find(child);
+  if (it == tf_.end()) return false;
+  out = it->second;
+  return true;
+}
+
+double SteppedNode::yaw(const std::string& child) const {
+  geometry_msgs::TransformStamped t;
+  return transform(child, t) ? yawOf(t.transform.rotation) : NAN;
 }
 
 }  // namespace nscd_test

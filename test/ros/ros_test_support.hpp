@@ -3,11 +3,17 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <mutex>
 #include <string>
 
 #include <geometry_msgs/Quaternion.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "nscd_sim/ContactArray.h"
+#include "nscd_sim/KeyFigures.h"
 
 namespace nscd_test {
 
@@ -78,5 +84,47 @@ bool publishWhenConnected(ros::Publisher& pub, const M& msg, double timeout = 10
   pub.publish(msg);
   return true;
 }
+
+// Drives the node under test deterministically in sim time: pause it, land a
+// command (~key_figures shows it), take N steps with ~step, then read the state
+// published after exactly those steps (~contacts, /tf, ~key_figures). Nothing
+// depends on how fast the machine is. Keeps the latest message of each topic.
+class SteppedNode {
+ public:
+  SteppedNode();
+  bool setPaused(bool paused);
+  // ~step(count); waits until ~contacts and /tf show the state after it. Returns
+  // that state's ~contacts (null if the call failed, took fewer steps, or timed out).
+  nscd_sim::ContactArrayConstPtr step(uint32_t count, double timeout = 30.0);
+  // The response of the last ~step call.
+  uint32_t lastStepsTaken() const { return last_steps_taken_; }
+  bool lastStepSucceeded() const { return last_step_success_; }
+  // Publishes `value` on ~<actuator>/command and waits until ~key_figures shows
+  // it as <actuator>.cmd (false on timeout).
+  bool command(const std::string& actuator, double value, double timeout = 10.0);
+  // Publishes `value` without waiting (for values the node must ignore).
+  void publishCommand(const std::string& actuator, double value);
+  // The latest ~key_figures value of `name` (NaN if none).
+  double keyFigure(const std::string& name) const;
+  // Yaw (rotation about z) of `child` in the latest /tf (NaN if none).
+  double yaw(const std::string& child) const;
+  // The latest transform of `child` (false if none).
+  bool transform(const std::string& child, geometry_msgs::TransformStamped& out) const;
+  // Waits until a ~contacts message satisfies `pred` (wall timeout); the latest one.
+  nscd_sim::ContactArrayConstPtr waitForContacts(
+      const std::function<bool(const nscd_sim::ContactArray&)>& pred, double timeout = 10.0);
+
+ private:
+  ros::Publisher& commandPublisher(const std::string& actuator);
+  mutable std::mutex mutex_;
+  ros::NodeHandle nh_;
+  ros::Subscriber tf_sub_, contacts_sub_, figures_sub_;
+  std::map<std::string, geometry_msgs::TransformStamped> tf_;
+  nscd_sim::ContactArrayConstPtr contacts_;
+  nscd_sim::KeyFiguresConstPtr figures_;
+  std::map<std::string, ros::Publisher> command_pubs_;
+  uint32_t last_steps_taken_ = 0;
+  bool last_step_success_ = false;
+};
 
 }  // namespace nscd_test

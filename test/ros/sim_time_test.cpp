@@ -13,6 +13,7 @@
 #include <std_srvs/SetBool.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include "nscd_sim/Step.h"
 #include "ros_test_support.hpp"
 
 using nscd_test::nodeTopic;
@@ -78,9 +79,23 @@ TEST(SimTime, PauseStopsTime) {
   ASSERT_FALSE(tf->transforms.empty());
   EXPECT_NEAR(tf->transforms[0].header.stamp.toSec(), c1, 1e-6);
 
+  // Paused, ~step N moves /clock by exactly N steps (dt = 1 ms in this scene).
+  nscd_sim::Step step;
+  step.request.count = 100;
+  ASSERT_TRUE(nscd_test::callService(nodeTopic("step"), step));
+  ASSERT_TRUE(step.response.success);
+  EXPECT_NEAR(step.response.sim_time, c1 + 0.1, 1e-9);
+  auto clock = nscd_test::waitForMessage<rosgraph_msgs::Clock>(
+      "/clock", [&](const rosgraph_msgs::Clock& c) { return c.clock.toSec() > c1; }, 5.0);
+  ASSERT_TRUE(clock);
+  EXPECT_NEAR(clock->clock.toSec(), step.response.sim_time, 1e-9);
+
   ASSERT_TRUE(setPaused(false));
-  ros::WallDuration(0.6).sleep();
-  EXPECT_GT(clockNow(), c1 + 0.1);
+  auto running = nscd_test::waitForMessage<rosgraph_msgs::Clock>(
+      "/clock",
+      [&](const rosgraph_msgs::Clock& c) { return c.clock.toSec() > step.response.sim_time; },
+      10.0);
+  EXPECT_TRUE(running) << "/clock did not move after ~pause(false)";
 }
 
 // /diagnostics: one status for the simulator, level OK, with the solver and
