@@ -17,9 +17,25 @@ struct BodyState {
   Vec3 w = Vec3::Zero();  // angular velocity, BODY frame
 };
 
+// Everything that moves: with the Model, a State determines the rest of a run.
+// Simulator::state() / setState() save, restore and branch runs (MuJoCo's
+// mj_getState / mj_setState); a run continued from a restored State is
+// bit-identical to the original.
 struct State {
   double t = 0;
   std::vector<BodyState> bodies;
+  // Actuator commands (Simulator::setCommand), and those of the previous step:
+  // a prescribed motion's rate is their difference over the step.
+  std::vector<double> commands;
+  std::vector<double> prev_commands;
+  // Warm starts: the impulse (normal, tangent 1, tangent 2) each contact slot had
+  // in the last step, and whether it was active then; one impulse per bilateral row.
+  std::vector<Vec3> warm;
+  std::vector<char> warm_valid;
+  std::vector<double> warm_bilateral;
+  // Per clearance joint, 2 ring angles (rad) where its rings last touched: the
+  // start of the next ring-gap search (NaN: none yet).
+  std::vector<double> ring_hint;
 };
 
 // One active contact point after a step (what the node and the CSV report).
@@ -52,6 +68,9 @@ struct StepStats {
   // Potential energy the projection added, taken back from the kinetic energy
   // (J; scenes without actuators only; see Simulator::step).
   double projection_energy_removed = 0;
+  // The iteration matrix M - h theta C - h^2 theta^2 K was not positive definite:
+  // the step used M^-1 (springs and PD actuators explicit).
+  bool iteration_matrix_fallback = false;
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };
@@ -64,6 +83,7 @@ struct EnergyReport {
 };
 
 class StepWorkspace;  // preallocated buffers of the pipeline (step_workspace.hpp)
+struct StepOutputs;   // what the last step reports (step_workspace.hpp)
 
 class Simulator {
  public:
@@ -76,15 +96,20 @@ class Simulator {
 
   const Model& model() const { return model_; }
   const State& state() const { return state_; }
+  // Continues from a State returned by state() of a simulator of the same model.
+  // The outputs of the last step (stats, contacts, forces) are cleared. Throws
+  // std::invalid_argument if the sizes do not fit the model or a value is not finite.
+  void setState(const State& state);
 
   // One time step of length model().settings.dt.
   StepStatus step();
-  // Back to the initial state (after assembly); commands back to their initial values.
+  // Back to the initial state (after assembly); commands back to their initial
+  // values; warm starts and every output of the last step cleared.
   void reset();
 
   // Actuator inputs. setCommand ignores non-finite values and returns false.
   bool setCommand(int actuator, double value);
-  double command(int actuator) const { return commands_[actuator]; }
+  double command(int actuator) const { return state_.commands[actuator]; }
   // Effort of each actuator during the last step (N or N m).
   double actuatorEffort(int actuator) const;
   // Force (N or N m) in each spring at the current state, positive in tension /
@@ -119,10 +144,11 @@ class Simulator {
   Model model_;
   State state_;
   State initial_state_;
-  std::vector<double> commands_;
-  std::vector<double> prev_commands_;  // commands of the previous step (prescribed rates)
-  std::vector<Vec3> pair_ft_vec_;      // summed tangential force per contact pair
-  std::unique_ptr<StepWorkspace> ws_;
+  std::unique_ptr<StepWorkspace> ws_;     // the step's buffers
+  std::unique_ptr<StepOutputs> out_;      // what the last step reports
+  // Buffers of the const queries (stats(), constraintViolation()): a query never
+  // writes the step's workspace, so it cannot change the trajectory.
+  std::unique_ptr<StepWorkspace> query_ws_;
 };
 
 }  // namespace nscd

@@ -1,29 +1,30 @@
-// Stage 2b: unilateral contact candidates. Shape pairs and clearance joints give
-// gaps, contact frames and Jacobian rows; only the points that can close within
-// the step (predicted gap) become constraint blocks.
+// Stage 2b: unilateral contact candidates, in three steps: narrowphase (every
+// point of the shape pairs and clearance joints within reach of the step),
+// activation (the points that can close within the step; the others wait for
+// the answer, activateLateContacts) and rows (contact frame and Jacobian).
+#include "contact_candidates.hpp"
+
 #include <cmath>
 
-#include "step_workspace.hpp"
+#include "clearance_joint.hpp"
+#include "contact_pair.hpp"
 
 namespace nscd {
 namespace {
 
+// A larger turn of the normal between q_k and the predicted configuration means
+// the motion within the step is not small against the local curvature (a light
+// body crossing a tight clearance in one step): the prediction is then no better
+// than q_k, and can be far worse (a normal that flips).
+const double kMinPredictedCos = std::cos(kMaxPredictedTurn);
 
-Pose poseOf(const BodyState& b) { return Pose{b.x, b.q}; }
-
-// Upper bound of the speed of any point within `reach` of the body origin.
-double speedBound(const BodyState& b, double reach) { return b.v.norm() + b.w.norm() * reach; }
-
-double shapeReach(const Shape& sh) {
-  double ext = 0;
-  switch (sh.type) {
-    case ShapeType::Sphere: ext = sh.radius; break;
-    case ShapeType::Capsule: ext = sh.radius + 0.5 * sh.length; break;
-    case ShapeType::Cylinder: ext = std::hypot(sh.radius, 0.5 * sh.length); break;
-    case ShapeType::Box: ext = sh.half_extents.norm(); break;
-    case ShapeType::Plane: ext = 0; break;
-  }
-  return sh.pose.p.norm() + ext;
+// The point of ahead[0..na) with the feature of cp, if its normal turns by less
+// than kMaxPredictedTurn; null otherwise.
+const ContactPoint* predictedFeature(const ContactPoint& cp, const ContactPoint* ahead, int na) {
+  for (int i = 0; i < na; ++i)
+    if (ahead[i].feature == cp.feature)
+      return ahead[i].normal.dot(cp.normal) >= kMinPredictedCos ? &ahead[i] : nullptr;
+  return nullptr;
 }
 
 Vec3 pointVelocity(const BodyState& b, const Vec3& p_world) {
@@ -36,31 +37,6 @@ double normalVelocity(const State& st, int ia, int ib, const ContactPoint& cp) {
   const Vec3 vb = pointVelocity(bodyOrGround(st, ib), cp.point_b);
   return cp.normal.dot(va - vb);
 }
-
-}  // namespace
-
-void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G) {
-  const Vec3 dirs[3] = {blk.row_cp.normal, blk.t1, blk.t2};
-  for (int k = 0; k < blk.size; ++k) {
-    const int row = blk.row + k;
-    const Vec3& d = dirs[k];
-    G.row(row).setZero();
-    if (blk.body_a != kGround) {
-      const BodyState& a = s.bodies[blk.body_a];
-      G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();
-      G.block<1, 3>(row, 6 * blk.body_a + 3) =
-          (a.q.conjugate() * (blk.row_cp.point_a - a.x).cross(d)).transpose();
-    }
-    if (blk.body_b != kGround) {
-      const BodyState& b = s.bodies[blk.body_b];
-      G.block<1, 3>(row, 6 * blk.body_b) = -d.transpose();
-      G.block<1, 3>(row, 6 * blk.body_b + 3) =
-          -(b.q.conjugate() * (blk.row_cp.point_b - b.x).cross(d)).transpose();
-    }
-  }
-}
-
-namespace {
 
 // Normal approach velocity of a contact point for the generalized velocity v
 // (6 per body: linear world, angular body frame).
@@ -78,20 +54,15 @@ double normalVelocityOf(const Eigen::VectorXd& v, const State& s, int ia, int ib
   return cp.normal.dot(va - vb);
 }
 
-void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, bool normal_only,
-                      StepWorkspace& ws) {
+// The rows of one candidate: a frictional block (3 rows) or, in the projection
+// modes or without friction, a normal row.
+void appendContactRows(const Model& m, const State& s, const ContactCandidate& c,
+                       bool normal_only, StepWorkspace& ws) {
   if (ws.rows + 3 > ws.max_rows) return;  // cannot happen: sized for the worst case
   ConstraintBlock blk;
-  blk.cp = c.cp;
-  blk.row_cp = c.row_cp;
-  blk.row_ahead = c.row_ahead;
+  blk.contact = c;
   blk.body_a = c.body_a;
   blk.body_b = c.body_b;
-  blk.mu = c.mu;
-  blk.e = c.e;
-  blk.source = c.source;
-  blk.clearance = c.clearance;
-  blk.slot = c.slot;
   blk.row = ws.rows;
   if (normal_only || c.mu <= 0) {
     blk.kind = BlockKind::Frictionless;
@@ -115,105 +86,81 @@ void pushContactBlock(const Model& m, const State& s, const DeferredContact& c, 
   ws.blocks.push_back(blk);
 }
 
-// The point of `ahead[0..na)` with the feature of `cp`, if its normal turns by
-// less than kMaxPredictedTurn; null otherwise. A larger turn means the motion
-// within the step is not small against the local curvature (a light body
-// crossing a tight clearance in one step): the prediction is then no better
-// than q_k, and can be far worse (a normal that flips).
-const double kMinPredictedCos = std::cos(kMaxPredictedTurn);
-const ContactPoint* predictedFeature(const ContactPoint& cp, const ContactPoint* ahead, int na) {
-  for (int i = 0; i < na; ++i)
-    if (ahead[i].feature == cp.feature)
-      return ahead[i].normal.dot(cp.normal) >= kMinPredictedCos ? &ahead[i] : nullptr;
-  return nullptr;
-}
-
 }  // namespace
 
-// `s` holds q_k and v_k; ws.vfree the free velocity (may be unused: normal_only);
-// ws.predicted q_k + h v_k when `predict`.
-void appendContactBlocks(const Model& m, const State& s, double h, bool normal_only,
-                         double extra_margin, bool predict, StepWorkspace& ws) {
-  const Settings& set = m.settings;
-  const bool planar = set.planar == PlanarMode::XY;
-  const double eps_act = set.projection_tolerance + (normal_only ? 0.0 : set.activation_margin);
-  const int npairs = static_cast<int>(m.contacts.size());
-  if (!normal_only) ws.deferred.clear();
-  predict = predict && !normal_only;
-  int nahead = 0;  // points of the current pair or joint at ws.predicted
+double activationTolerance(const Settings& set, CandidateMode mode) {
+  return set.projection_tolerance + (mode == CandidateMode::Step ? set.activation_margin : 0.0);
+}
 
-  auto addBlock = [&](const ContactPoint& cp, int ia, int ib, double mu, double e, int source,
-                      bool clearance, int slot) {
-    DeferredContact c{cp, cp, false, ia, ib, mu, e, source, clearance, slot};
-    if (predict) {
-      if (const ContactPoint* p = predictedFeature(cp, ws.points_ahead, nahead)) {
-        c.row_cp = *p;
-        c.row_ahead = true;
-      }
-    }
-    if (!normal_only) {
-      // Activation: the gap predicted from v_k, or from the free motion, closes.
-      const double un = normalVelocity(s, ia, ib, cp);
-      const bool active = cp.gap + set.activation_gamma * h * un <= eps_act ||
-                          cp.gap + h * normalVelocityOf(ws.vfree, s, ia, ib, cp) <= 0;
-      if (!active) {
-        // Kept: the impulses of the other contacts may still close it (see
-        // activateLateContacts).
-        if (ws.deferred.size() < ws.deferred.capacity()) ws.deferred.push_back(c);
-        return;
-      }
-    }
-    pushContactBlock(m, s, c, normal_only, ws);
-  };
-
-  for (int p = 0; p < npairs; ++p) {
-    const ContactPair& pair = m.contacts[p];
-    const BodyState& a = bodyOrGround(s, pair.a.body);
-    const BodyState& b = bodyOrGround(s, pair.b.body);
-    const double margin = extra_margin + eps_act +
-                          2.0 * h * (speedBound(a, shapeReach(pair.a)) + speedBound(b, shapeReach(pair.b)));
-    const Pose pa = poseOf(a) * pair.a.pose;
-    const Pose pb = poseOf(b) * pair.b.pose;
-    const int np = collide(pair.a, pa, pair.b, pb, margin, ws.points);
-    nahead = 0;
-    if (predict && np > 0) {
-      const Pose qa = poseOf(bodyOrGround(ws.predicted, pair.a.body)) * pair.a.pose;
-      const Pose qb = poseOf(bodyOrGround(ws.predicted, pair.b.body)) * pair.b.pose;
-      nahead = collide(pair.a, qa, pair.b, qb, margin, ws.points_ahead);
-    }
-    for (int k = 0; k < np; ++k)
-      addBlock(ws.points[k], pair.a.body, pair.b.body, pair.mu, pair.e, p, false,
-               p * kMaxPointsPerPair + ws.points[k].feature);
+void pushCandidate(const ContactPoint& cp, int body_a, int body_b, double mu, double e,
+                   int source, bool clearance, int slot, const ContactPoint* ahead, int nahead,
+                   StepWorkspace& ws) {
+  ContactCandidate c{cp, cp, false, body_a, body_b, mu, e, source, clearance, slot};
+  if (const ContactPoint* p = predictedFeature(cp, ahead, nahead)) {
+    c.row_cp = *p;
+    c.row_ahead = true;
   }
-  for (size_t c = 0; c < m.clearance_joints.size(); ++c) {
-    const ClearanceJoint& cj = m.clearance_joints[c];
-    const BodyState& br = bodyOrGround(s, cj.bearing_body);
-    const BodyState& jr = bodyOrGround(s, cj.journal_body);
-    const double reach = std::max(cj.bearing_center.norm(), cj.journal_center.norm()) +
-                         std::max(cj.bump_at, cj.radius + cj.radial) + cj.length;
-    const double margin =
-        extra_margin + eps_act + 2.0 * h * (speedBound(br, reach) + speedBound(jr, reach));
-    const int np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar,
-                                     &ws.phi_hint[2 * c], ws.points);
-    nahead = 0;
-    double hint[2] = {ws.phi_hint[2 * c], ws.phi_hint[2 * c + 1]};  // a copy: q_k's stay
-    if (predict && np > 0)
-      nahead = clearanceContacts(cj, poseOf(bodyOrGround(ws.predicted, cj.bearing_body)),
-                                 poseOf(bodyOrGround(ws.predicted, cj.journal_body)), margin,
-                                 planar, hint, ws.points_ahead);
-    for (int k = 0; k < np; ++k) {
-      const ContactPoint cp = ws.points[k];
-      addBlock(cp, cj.bearing_body, cj.journal_body, cj.mu, cj.e, static_cast<int>(c), true,
-               ws.contact_slot_base_clearance + static_cast<int>(c) * kMaxClearancePoints +
-                   cp.feature);
-      // Projection only: a penetrating ring also gets neighbouring facets of its disc.
-      if (normal_only && ws.ring_facets && cp.feature < 2 && cp.gap < 0) {
-        ContactPoint facets[kRingFacets];
-        const int nf = clearanceRingFacets(cj, poseOf(br), cp, margin, facets);
-        for (int f = 0; f < nf; ++f)
-          addBlock(facets[f], cj.bearing_body, cj.journal_body, cj.mu, cj.e,
-                   static_cast<int>(c), true, -1);
-      }
+  ws.candidates.push_back(c);
+}
+
+void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G) {
+  const ContactPoint& rc = blk.contact.row_cp;
+  const Vec3 dirs[3] = {rc.normal, blk.t1, blk.t2};
+  for (int k = 0; k < blk.size; ++k) {
+    const int row = blk.row + k;
+    const Vec3& d = dirs[k];
+    G.row(row).setZero();
+    if (blk.body_a != kGround) {
+      const BodyState& a = s.bodies[blk.body_a];
+      G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();
+      G.block<1, 3>(row, 6 * blk.body_a + 3) =
+          (a.q.conjugate() * (rc.point_a - a.x).cross(d)).transpose();
+    }
+    if (blk.body_b != kGround) {
+      const BodyState& b = s.bodies[blk.body_b];
+      G.block<1, 3>(row, 6 * blk.body_b) = -d.transpose();
+      G.block<1, 3>(row, 6 * blk.body_b + 3) =
+          -(b.q.conjugate() * (rc.point_b - b.x).cross(d)).transpose();
+    }
+  }
+}
+
+// `s` holds q_k and v_k; ws.predicted q_k + h v_k when predicting.
+void findContactCandidates(const Model& m, const State& s, double h, CandidateMode mode,
+                           double extra_margin, double* ring_hint, StepWorkspace& ws) {
+  CandidatePass pass;
+  pass.mode = mode;
+  pass.h = h;
+  pass.extra_margin = extra_margin;
+  pass.eps_act = activationTolerance(m.settings, mode);
+  pass.predict = mode == CandidateMode::Step && m.settings.contact_prediction > 0;
+  ws.candidates.clear();
+  for (size_t p = 0; p < m.contacts.size(); ++p)
+    appendPairCandidates(m, s, static_cast<int>(p), pass, ws);
+  for (size_t c = 0; c < m.clearance_joints.size(); ++c)
+    appendClearanceCandidates(m, s, static_cast<int>(c), pass, ring_hint + 2 * c, ws);
+}
+
+void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,
+                      StepWorkspace& ws) {
+  const Settings& set = m.settings;
+  if (mode != CandidateMode::Step) {
+    for (const ContactCandidate& c : ws.candidates) appendContactRows(m, s, c, true, ws);
+    return;
+  }
+  const double eps_act = activationTolerance(set, mode);
+  ws.deferred.clear();
+  for (const ContactCandidate& c : ws.candidates) {
+    // Activation: the gap predicted from v_k, or from the free motion, closes.
+    const ContactPoint& cp = c.cp;
+    const double un = normalVelocity(s, c.body_a, c.body_b, cp);
+    const bool active = cp.gap + set.activation_gamma * h * un <= eps_act ||
+                        cp.gap + h * normalVelocityOf(ws.vfree, s, c.body_a, c.body_b, cp) <= 0;
+    if (active) {
+      appendContactRows(m, s, c, false, ws);
+    } else if (ws.deferred.size() < ws.deferred.capacity()) {
+      // Kept: the impulses of the other contacts may still close it.
+      ws.deferred.push_back(c);
     }
   }
 }
@@ -222,9 +169,9 @@ int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace
   int added = 0;
   size_t keep = 0;
   for (size_t i = 0; i < ws.deferred.size(); ++i) {
-    const DeferredContact& c = ws.deferred[i];
+    const ContactCandidate& c = ws.deferred[i];
     if (c.cp.gap + h * normalVelocityOf(ws.vnew, s, c.body_a, c.body_b, c.cp) <= 0) {
-      pushContactBlock(m, s, c, false, ws);
+      appendContactRows(m, s, c, false, ws);
       ++added;
     } else {
       ws.deferred[keep++] = c;

@@ -3,12 +3,12 @@
 // its 6N columns, so both products are formed from those 6-column pieces only:
 // O(r·12·6N) and O(r²·12) instead of O(r·(6N)²) and O(r²·6N) for dense products.
 // W is filled symmetrically.
-#include "step_workspace.hpp"
+#include "step_stages.hpp"
 
 namespace nscd {
 
-void assembleDelassus(const Eigen::MatrixXd& Minv, bool block_diagonal, StepWorkspace& ws,
-                      int from, int r) {
+void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
+                      StepWorkspace& ws, int from, int r) {
   // Bodies of each row (kGround = none).
   for (const ConstraintBlock& blk : ws.blocks) {
     const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
@@ -22,9 +22,9 @@ void assembleDelassus(const Eigen::MatrixXd& Minv, bool block_diagonal, StepWork
       if (body == kGround) continue;
       const Vec6 g = ws.G.row(i).segment<6>(6 * body).transpose();
       if (block_diagonal)  // no coupling between bodies: only this body's 6 x 6 block
-        y.segment<6>(6 * body).noalias() += Minv.block<6, 6>(6 * body, 6 * body) * g;
+        y.segment<6>(6 * body).noalias() += iteration_inverse.block<6, 6>(6 * body, 6 * body) * g;
       else
-        y.noalias() += Minv.middleCols<6>(6 * body) * g;
+        y.noalias() += iteration_inverse.middleCols<6>(6 * body) * g;
     }
   }
   for (int i = from; i < r; ++i) {

@@ -1,9 +1,9 @@
-// Stage 1: forces. Gravity, gyroscopic torques, springs, dampers and actuators,
-// with the derivatives the Moreau-Jean iteration matrix needs for the stiff
-// elements (springs and PD actuators), by finite differences per element.
+// Stage 1: forces. Gravity, springs, dampers and actuators, with the derivatives
+// the Moreau-Jean iteration matrix needs for the stiff elements (springs and PD
+// actuators), by finite differences per element. (Gyroscopic torques: free_velocity.cpp.)
 #include <cmath>
 
-#include "step_workspace.hpp"
+#include "joint_rows.hpp"
 
 namespace nscd {
 namespace {
@@ -12,26 +12,6 @@ namespace {
 Vec3 pointWorld(const BodyState& b, const Vec3& local) { return b.q * local + b.x; }
 Vec3 pointVelocity(const BodyState& b, const Vec3& local) {
   return b.v + b.q * (b.w.cross(local));
-}
-
-// Twist angle of the child about the joint axis, from the URDF zero.
-double revoluteAngle(const Joint& j, const BodyState& a, const BodyState& b) {
-  Quat dev = (a.q.conjugate() * b.q) * j.rel_rot_zero.conjugate();
-  if (dev.w() < 0) dev.coeffs() = -dev.coeffs();
-  return 2.0 * std::atan2(dev.vec().dot(j.axis_a), dev.w());
-}
-
-double jointPos(const Joint& j, const BodyState& a, const BodyState& b) {
-  if (j.type == JointType::Prismatic)
-    return (pointWorld(b, j.anchor_b) - pointWorld(a, j.anchor_a)).dot(a.q * j.axis_a);
-  return revoluteAngle(j, a, b);
-}
-
-double jointVel(const Joint& j, const BodyState& a, const BodyState& b) {
-  const Vec3 axis = a.q * j.axis_a;
-  if (j.type == JointType::Prismatic)
-    return (pointVelocity(b, j.anchor_b) - pointVelocity(a, j.anchor_a)).dot(axis);
-  return (b.q * b.w - a.q * a.w).dot(axis);
 }
 
 // Adds a world force applied at a world point to a body's generalized force.
@@ -51,7 +31,7 @@ struct Element {
 };
 
 // Generalized forces of an element on its two bodies. `report` gets the spring
-// force (tension / torque on b) or the actuator effort.
+// force (tension / torque on b) or the actuator effort. commands: unused for springs.
 void elementForce(const Model& m, const Element& el, const BodyState& a, const BodyState& b,
                   const std::vector<double>& commands, Vec6& fa, Vec6& fb, double& report) {
   fa.setZero();
@@ -74,8 +54,8 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
       report = f;
     } else {
       const Joint& j = m.joints[sp.joint];
-      const double ang = jointPos(j, a, b);
-      const double rate = jointVel(j, a, b);
+      const double ang = jointCoordinate(j, a, b);
+      const double rate = jointRate(j, a, b);
       const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       const Vec3 axis = a.q * j.axis_a;
       addTorque(fb, b, tau * axis);
@@ -86,8 +66,8 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
   }
   const Actuator& ac = m.actuators[el.index];
   const Joint& j = m.joints[ac.joint];
-  const double pos = jointPos(j, a, b);
-  const double vel = jointVel(j, a, b);
+  const double pos = jointCoordinate(j, a, b);
+  const double vel = jointRate(j, a, b);
   double effort = ac.kp * (commands[el.index] - pos) - ac.kd * vel;
   if (ac.max_effort > 0) effort = std::max(-ac.max_effort, std::min(ac.max_effort, effort));
   const Vec3 axis = a.q * j.axis_a;
@@ -132,29 +112,16 @@ double springForceAt(const Model& m, const State& s, int spring) {
   return report;
 }
 
-double jointPosition(const Model& m, const State& s, int joint) {
-  const Joint& j = m.joints[joint];
-  return jointPos(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
-}
-
-double jointVelocity(const Model& m, const State& s, int joint) {
-  const Joint& j = m.joints[joint];
-  return jointVel(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
-}
-
-void computeForces(const Model& m, const State& s, const std::vector<double>& commands,
-                   StepWorkspace& ws, bool with_jacobians) {
+void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
+                   bool with_jacobians) {
+  const std::vector<double>& commands = s.commands;
   ws.F.setZero();
   if (with_jacobians) {
     ws.K.setZero();
     ws.C.setZero();
   }
   const Vec3 g = m.settings.gravity;
-  for (int i = 0; i < ws.nbodies; ++i) {
-    const Body& body = m.bodies[i];
-    const BodyState& b = s.bodies[i];
-    ws.F.segment<3>(6 * i) += body.mass * g;  // gyroscopic torques: addGyroscopicImpulses
-  }
+  for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
   // Force actuators: explicit.
   for (size_t i = 0; i < m.actuators.size(); ++i) {
     const Actuator& ac = m.actuators[i];
@@ -164,7 +131,7 @@ void computeForces(const Model& m, const State& s, const std::vector<double>& co
     Vec6 gf = Vec6::Zero();
     addForceAt(gf, b, f, pointWorld(b, ac.point));
     ws.F.segment<6>(6 * ac.body) += gf;
-    ws.actuator_effort[i] = commands[i];
+    out.actuator_effort[i] = commands[i];
   }
   // Springs and PD actuators, with their stiffness and damping.
   auto element = [&](const Element& el) {
@@ -173,7 +140,7 @@ void computeForces(const Model& m, const State& s, const std::vector<double>& co
     Vec6 fa, fb;
     double report = 0;
     elementForce(m, el, a0, b0, commands, fa, fb, report);
-    if (el.is_spring) ws.spring_force[el.index] = report; else ws.actuator_effort[el.index] = report;
+    if (!el.is_spring) out.actuator_effort[el.index] = report;
     if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
     if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
     if (!with_jacobians) return;
@@ -219,31 +186,6 @@ void computeForces(const Model& m, const State& s, const std::vector<double>& co
           (*D)(c, r) = avg;
         }
   }
-}
-
-// Gyroscopic torques -w x J w, by backward Euler per body: the w that solves
-// J (w - w_f) + h w x J w = 0 (Newton from w_f, the free velocity without them),
-// applied as the impulse J (w - w_f) through the iteration matrix. The explicit
-// torque gains kinetic energy at O(h^2) every step of a tumbling body; backward
-// Euler cannot (w.J.w = w.J.w_f <= |w|_J |w_f|_J).
-void addGyroscopicImpulses(const Model& m, double h, StepWorkspace& ws) {
-  bool any = false;
-  ws.dv.setZero();
-  for (int i = 0; i < ws.nbodies; ++i) {
-    const Vec3 wf = ws.vfree.segment<3>(6 * i + 3);
-    const Mat3& J = m.bodies[i].inertia;
-    if (wf.cross(J * wf).squaredNorm() == 0) continue;  // about a principal axis (or at rest)
-    Vec3 w = wf;
-    for (int it = 0; it < 3; ++it) {
-      const Vec3 Jw = J * w;
-      const Vec3 r = J * (w - wf) + h * w.cross(Jw);
-      const Mat3 jac = J + h * (skew(w) * J - skew(Jw));
-      w -= jac.partialPivLu().solve(r);
-    }
-    ws.dv.segment<3>(6 * i + 3) = J * (w - wf);
-    any = true;
-  }
-  if (any) ws.vfree.noalias() += ws.Minv * ws.dv;
 }
 
 }  // namespace nscd

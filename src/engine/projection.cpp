@@ -7,20 +7,23 @@
 #include <cmath>
 
 #include "least_distance.hpp"
-#include "step_workspace.hpp"
+#include "step_stages.hpp"
 
 namespace nscd {
 namespace {
 
 constexpr int kProjectionBacktracks = 4;
 
-void gatherPositionRows(const Model& m, const State& s, const std::vector<double>& commands,
-                        StepWorkspace& ws, double extra_margin) {
+// The rows of the position-level problem at the state: bilateral rows and a
+// normal row per contact candidate. `ring_hint` starts the ring searches.
+void gatherPositionRows(const Model& m, const State& s, CandidateMode mode, double extra_margin,
+                        double* ring_hint, StepWorkspace& ws) {
   ws.blocks.clear();
   ws.rows = 0;
   // Prescribed rates do not matter at the position level.
-  appendBilateralBlocks(m, s, commands, ws.zero_rates, ws);
-  appendContactBlocks(m, s, 0.0, true, extra_margin, false, ws);
+  appendBilateralRows(m, s, ws.zero_rates, ws);
+  findContactCandidates(m, s, 0.0, mode, extra_margin, ring_hint, ws);
+  activateContacts(m, s, 0.0, mode, ws);
 }
 
 double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {
@@ -29,7 +32,7 @@ double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {
     if (blk.kind == BlockKind::Bilateral) {
       for (int k = 0; k < blk.size; ++k) bil = std::max(bil, std::abs(blk.error[k]));
     } else {
-      pen = std::max(pen, -blk.cp.gap);
+      pen = std::max(pen, -blk.contact.cp.gap);
     }
   }
   if (bilateral) *bilateral = bil;
@@ -39,9 +42,9 @@ double violationOfBlocks(const StepWorkspace& ws, double* bilateral) {
 // The correction of this pass as the least-distance problem it is the dual of:
 // min |y| over G L y >= -g (= -err for bilateral rows), with L L^T = M^-1
 // (planar-projected), dq = L y. For passes whose complementarity problem the
-// solver did not solve. False (ws.dv kept) if infeasible. Allocates: a fallback.
+// solver did not solve. False (ws.dq kept) if infeasible. Allocates: a fallback.
 bool leastDistanceCorrection(StepWorkspace& ws) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(ws.Mproj);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(ws.mass_inverse);
   const Eigen::VectorXd& lam = eig.eigenvalues();
   const double floor = 1e-12 * lam.maxCoeff();
   int k = 0;
@@ -57,7 +60,7 @@ bool leastDistanceCorrection(StepWorkspace& ws) {
   for (const ConstraintBlock& blk : ws.blocks) {
     if (blk.kind != BlockKind::Bilateral) {
       A.row(i) = ws.G.row(blk.row).head(ws.n) * L;
-      c(i++) = -blk.cp.gap;
+      c(i++) = -blk.contact.cp.gap;
       continue;
     }
     for (int q = 0; q < blk.size; ++q) {  // equality: both inequalities
@@ -70,42 +73,40 @@ bool leastDistanceCorrection(StepWorkspace& ws) {
   }
   Eigen::VectorXd y;
   if (!leastDistance(A, c, y)) return false;
-  ws.dv.noalias() = L * y;
-  return ws.dv.allFinite();
+  ws.dq.noalias() = L * y;
+  return ws.dq.allFinite();
 }
 
 }  // namespace
 
-double measureViolation(const Model& m, const State& s, const std::vector<double>& commands,
-                        StepWorkspace& ws, double* bilateral) {
-  gatherPositionRows(m, s, commands, ws, 0.0);
+double measureViolation(const Model& m, const State& s, StepWorkspace& ws, double* bilateral) {
+  ws.ring_hint = s.ring_hint;  // a copy: a query leaves the state as it is
+  gatherPositionRows(m, s, CandidateMode::Measure, 0.0, ws.ring_hint.data(), ws);
   return violationOfBlocks(ws, bilateral);
 }
 
-int projectPositions(const Model& m, State& s, const std::vector<double>& commands,
-                     StepWorkspace& ws, int max_passes, double tol, double& violation) {
+int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
+                     double& violation, StepStats& st) {
+  // Penetrating rings get tangent facets (CandidateMode::Projection) from the
+  // first pass; backtracking (below) only from the second, which is needed only
+  // where the first pass was not enough.
+  const CandidateMode mode = CandidateMode::Projection;
+  double* hint = s.ring_hint.data();
   double extra = 0;
   SolverOptions opt;
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
-  // Penetrating rings get tangent facets from the first pass; backtracking
-  // (below) only from the second, which is needed only where the first pass was
-  // not enough.
-  ws.ring_facets = true;
   for (int pass = 0;; ++pass) {
-    gatherPositionRows(m, s, commands, ws, extra);
+    gatherPositionRows(m, s, mode, extra, hint, ws);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
-    if (violation <= tol || pass >= max_passes) {
-      ws.ring_facets = false;
-      return pass;
-    }
+    if (violation <= tol || pass >= max_passes) return pass;
     // Contacts within reach of the correction join the problem so that fixing
     // one violation does not create another.
     if (extra < 2 * violation) {
       extra = 2 * violation;
-      gatherPositionRows(m, s, commands, ws, extra);
+      gatherPositionRows(m, s, mode, extra, hint, ws);
     }
     const int r = ws.rows;
     ws.problem.clear();
@@ -118,20 +119,17 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
       if (blk.kind == BlockKind::Bilateral)
         for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
       else
-        ws.b[blk.row] = blk.cp.gap;
+        ws.b[blk.row] = blk.contact.cp.gap;
     }
-    assembleDelassus(ws.Mproj, true, ws, 0, r);  // M^-1: one block per body
+    assembleDelassus(ws.mass_inverse, true, ws, 0, r);  // M^-1: one block per body
     ws.P.head(r).setZero();
     const SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
-    ws.dv.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
-    if (!rep.converged && leastDistanceCorrection(ws)) ++ws.stats.projection_least_distance;
-    if (!ws.dv.allFinite()) {
-      ws.ring_facets = false;
-      return pass;
-    }
+    ws.dq.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
+    if (!rep.converged && leastDistanceCorrection(ws)) ++st.projection_least_distance;
+    if (!ws.dq.allFinite()) return pass;
     if (pass == 0) {
-      applyDisplacement(s, ws.dv);
+      applyDisplacement(s, ws.dq);
       continue;
     }
     // Backtracking: the linearised correction can overshoot where the gaps are
@@ -142,11 +140,11 @@ int projectPositions(const Model& m, State& s, const std::vector<double>& comman
     for (int k = 0; k < kProjectionBacktracks; ++k) {
       if (k > 0) {
         s.bodies = ws.saved_bodies;
-        ws.dv *= 0.5;
+        ws.dq *= 0.5;
       }
-      applyDisplacement(s, ws.dv);
+      applyDisplacement(s, ws.dq);
       if (k + 1 == kProjectionBacktracks) break;
-      gatherPositionRows(m, s, commands, ws, 0.0);
+      gatherPositionRows(m, s, mode, 0.0, hint, ws);
       double bil_t = 0;
       const double pen_t = violationOfBlocks(ws, &bil_t);
       if (std::max(pen_t, bil_t) < violation) break;

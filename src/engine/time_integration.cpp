@@ -1,6 +1,6 @@
 // Stage 5: position update of the theta-scheme. Quaternions advance by the
 // exponential map of the body-frame rotation vector (unit by construction).
-#include "step_workspace.hpp"
+#include "step_stages.hpp"
 
 namespace nscd {
 
@@ -16,6 +16,13 @@ void setStateVelocities(State& s, const Eigen::VectorXd& v) {
     s.bodies[i].v = v.segment<3>(6 * i);
     s.bodies[i].w = v.segment<3>(6 * i + 3);
   }
+}
+
+void advanceState(const Model& m, double h, const StepWorkspace& ws, State& s) {
+  integratePositions(s, ws.vk, ws.vnew, h, m.settings.theta);
+  setStateVelocities(s, ws.vnew);
+  s.t += h;
+  s.prev_commands = s.commands;
 }
 
 void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::VectorXd& vnew,

@@ -1,0 +1,16 @@
+// A named contact between two shapes (<nscd><contact>): its candidates and gap.
+#pragma once
+
+#include "contact_candidates.hpp"
+
+namespace nscd {
+
+// Narrowphase of shape pair `p`: its points within reach of the pass, into
+// ws.candidates (warm-start slot p * kMaxPointsPerPair + feature).
+void appendPairCandidates(const Model& m, const State& s, int p, const CandidatePass& pass,
+                          StepWorkspace& ws);
+
+// Smallest gap of the pair at the state (m; +inf if no point).
+double contactPairGap(const State& s, const ContactPair& pair);
+
+}  // namespace nscd

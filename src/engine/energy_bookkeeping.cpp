@@ -1,0 +1,69 @@
+// Stage 7: energy bookkeeping. Kinetic and potential energies (reports, the
+// safeguards' measures), and the projection's correction: in a scene without
+// actuators nothing puts energy in, so potential energy the projection adds (it
+// lifts a body that drifted into a contact; the exact motion never did) is a
+// discretisation artefact, taken back from the kinetic energy.
+#include <cmath>
+
+#include "step_stages.hpp"
+
+namespace nscd {
+namespace {
+
+// Kinetic energy of one body (v world, w body frame).
+double bodyKineticEnergy(const Body& body, const Vec3& v, const Vec3& w) {
+  return 0.5 * (body.mass * v.squaredNorm() + w.dot(body.inertia * w));
+}
+
+// Takes `amount` (J) out of the kinetic energy of the state by one common
+// factor on every velocity (homogeneous velocity constraints stay satisfied);
+// all of it if there is less. Returns what was taken.
+double removeKineticEnergy(const Model& m, State& s, double amount) {
+  const double k = kineticEnergyOf(m, s);
+  if (!(k > 0)) return 0;
+  const double f = amount < k ? std::sqrt(1 - amount / k) : 0.0;
+  for (BodyState& b : s.bodies) {
+    b.v *= f;
+    b.w *= f;
+  }
+  return std::min(amount, k);
+}
+
+}  // namespace
+
+double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v) {
+  double k = 0;
+  for (size_t b = 0; b < m.bodies.size(); ++b)
+    k += bodyKineticEnergy(m.bodies[b], v.segment<3>(6 * b), v.segment<3>(6 * b + 3));
+  return k;
+}
+
+double kineticEnergyOf(const Model& m, const State& s) {
+  double k = 0;
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    k += bodyKineticEnergy(m.bodies[i], s.bodies[i].v, s.bodies[i].w);
+  return k;
+}
+
+EnergyReport potentialEnergyOf(const Model& m, const State& s) {
+  EnergyReport e;
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    e.gravity -= m.bodies[i].mass * m.settings.gravity.dot(s.bodies[i].x);
+  for (const Spring& sp : m.springs) {
+    double stretch;
+    if (sp.type == SpringType::Linear) {
+      stretch = (bodyPointWorld(s, sp.body_b, sp.end_b) - bodyPointWorld(s, sp.body_a, sp.end_a)).norm() - sp.rest;
+    } else {
+      stretch = jointPosition(m, s, sp.joint) - sp.rest;
+    }
+    e.springs += 0.5 * sp.stiffness * stretch * stretch;
+  }
+  return e;
+}
+
+double takeBackProjectionEnergy(const Model& m, double potential_before, State& s) {
+  const double gain = potentialEnergyOf(m, s).total() - potential_before;
+  return gain > 0 ? removeKineticEnergy(m, s, gain) : 0.0;
+}
+
+}  // namespace nscd

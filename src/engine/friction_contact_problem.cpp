@@ -1,0 +1,65 @@
+// Stage 4a: the friction-contact problem of the step's rows. Local free
+// velocities b = G v_free; bilateral rows aim at their rheonomic targets; the
+// Newton impact law shifts an approaching contact's normal by e U_N,k; impulses
+// start from the last step's (warm start, carried by the State).
+#include <algorithm>
+
+#include "step_stages.hpp"
+
+namespace nscd {
+
+void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepWorkspace& ws,
+                                 StepStats& st) {
+  const int r = ws.rows;
+  const auto G = ws.G.topRows(r);
+  ws.b.head(r).noalias() = G * ws.vfree;
+  ws.problem.clear();
+  st.active_contacts = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    ProblemBlock pb;
+    pb.kind = blk.kind;
+    pb.row = blk.row;
+    pb.size = blk.size;
+    pb.mu = blk.contact.mu;
+    ws.problem.push_back(pb);
+    // Rows below `kept` start from the current ws.P (a re-solve), the others warm.
+    const bool warm = blk.row >= kept;
+    if (blk.kind == BlockKind::Bilateral) {
+      for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
+      const int base = blk.joint >= 0 ? ws.facts.joint_row_base[blk.joint]
+                                      : ws.facts.actuator_row_base[blk.actuator];
+      if (warm)
+        for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = s.warm_bilateral[base + k];
+      continue;
+    }
+    ++st.active_contacts;
+    // Newton impact law: U_N+ >= -e U_N- for approaching contacts.
+    const double un_k = G.row(blk.row).dot(ws.vk);
+    if (un_k < 0) ws.b[blk.row] += blk.contact.e * un_k;
+    if (warm) {
+      const int slot = blk.contact.slot;
+      const bool valid = slot >= 0 && s.warm_valid[slot] != 0;
+      for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = valid ? s.warm[slot][k] : 0.0;
+    }
+    if (m.settings.planar == PlanarMode::XY && blk.size == 3) {
+      // The out-of-plane tangent row is void: decouple it so P_T2 stays 0.
+      const int t2 = blk.row + 2;
+      ws.W.row(t2).head(r).setZero();
+      ws.W.col(t2).head(r).setZero();
+      ws.W(t2, t2) = std::max(ws.W(blk.row + 1, blk.row + 1), 1e-300);
+      ws.b[t2] = 0;
+      ws.P[t2] = 0;
+    }
+  }
+}
+
+void removeRestitution(StepWorkspace& ws) {
+  const auto G = ws.G.topRows(ws.rows);
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.kind == BlockKind::Bilateral) continue;
+    const double un_k = G.row(blk.row).dot(ws.vk);
+    if (un_k < 0) ws.b[blk.row] -= blk.contact.e * un_k;
+  }
+}
+
+}  // namespace nscd

@@ -1,0 +1,101 @@
+// Stage 4c: safeguards on the solved impulses, each counted in StepStats.
+// - Newton's impact law at several coupled frictional points can add kinetic
+//   energy (it is only proven dissipative for one point), and with theta = 1/2
+//   the impulses can do positive work over the step: the impact is then taken
+//   plastic (e = 0).
+// - A problem left far from solved (residual > 1e-3; it may have no solution:
+//   Coulomb friction with restitution at coupled points) can drive bodies through
+//   each other: the step is taken frictionless and plastic, a convex problem.
+// - Still far from solved: the impulses are scaled so they add no kinetic energy.
+#include <algorithm>
+#include <cmath>
+
+#include "step_stages.hpp"
+
+namespace nscd {
+namespace {
+
+// Residual above which an unconverged frictional answer is replaced.
+constexpr double kFrictionlessFallbackResidual = 1e-3;
+
+// Whether the impulses of an impact with restitution add energy, by either of
+// two measures, each compared with K(v_free):
+// - the kinetic energy they add, Phi = sum_c P_c.u+_c - P.W.P/2 (the change
+//   K(v+) - K(v_free) minus the work of the bilateral rows' targets). With e = 0
+//   every term is <= 0 (u_N+ P_N = 0, friction opposes u_T+);
+// - their work over the step, sum_c P_c.(theta u+_c + (1 - theta) u_k,c): the
+//   positions move with that velocity, so with gravity alone this is the step's
+//   energy change. It can be positive where a contact separates at the start of
+//   the step, or where friction that stops a sliding point at its end points
+//   along the sliding at its start.
+bool impactGainsEnergy(const Model& m, const StepWorkspace& ws) {
+  bool any_restitution = false;
+  for (const ConstraintBlock& blk : ws.blocks)
+    any_restitution = any_restitution || (blk.kind != BlockKind::Bilateral && blk.contact.e > 0);
+  if (!any_restitution) return false;
+  const auto G = ws.G.topRows(ws.rows);
+  const double theta = m.settings.theta;
+  double post = 0, wpp = 0, work = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    for (int k = 0; k < blk.size; ++k) {
+      const int i = blk.row + k;
+      const double u_new = G.row(i).dot(ws.vnew);
+      const double u_free = G.row(i).dot(ws.vfree);
+      wpp += ws.P[i] * (u_new - u_free);
+      if (blk.kind == BlockKind::Bilateral) continue;
+      post += ws.P[i] * u_new;
+      work += ws.P[i] * (theta * u_new + (1 - theta) * G.row(i).dot(ws.vk));
+    }
+  }
+  const double phi = post - 0.5 * wpp;
+  const double tol = 1e-12 * kineticEnergyOf(m, ws.vfree) + 1e-300;
+  return (std::isfinite(phi) && phi > tol) || (std::isfinite(work) && work > tol);
+}
+
+}  // namespace
+
+void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
+                           SolverReport& rep, StepStats& st) {
+  const int r = ws.rows;
+  const auto W = ws.W.topLeftCorner(r, r);
+  const auto b = ws.b.head(r);
+  bool plastic = false;
+  if (st.active_contacts > 0 && impactGainsEnergy(m, ws)) {
+    removeRestitution(ws);
+    rep = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    applyImpulses(ws);
+    plastic = st.plastic_fallback = true;
+  }
+  if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual) && st.active_contacts > 0) {
+    // Frictionless and plastic; the problem blocks are rebuilt by the next assembly.
+    if (!plastic) removeRestitution(ws);
+    for (ProblemBlock& pb : ws.problem) pb.mu = 0;
+    const SolverReport rep0 = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    if (ws.P.head(r).allFinite()) {
+      rep.iterations += rep0.iterations;
+      rep.residual = rep0.residual;
+      rep.converged = false;  // the step's own problem stays unsolved: reported
+      applyImpulses(ws);
+      st.frictionless_fallback = true;
+    }
+  }
+  if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual)) {
+    // Along the answer's direction, dK(a) = a P.u_free + a^2/2 P.W.P; take the a
+    // in [0, 1] that minimises it, so dK <= 0. Prescribed motions are scaled too.
+    const auto G = ws.G.topRows(r);
+    double pu = 0, pwp = 0;
+    for (int i = 0; i < r; ++i) {
+      pu += ws.P[i] * G.row(i).dot(ws.vfree);
+      pwp += ws.P[i] * G.row(i).dot(ws.vnew - ws.vfree);
+    }
+    if (std::isfinite(pu) && std::isfinite(pwp) &&
+        pu + 0.5 * pwp > 1e-12 * kineticEnergyOf(m, ws.vfree)) {
+      const double a = pwp > 0 ? std::min(1.0, std::max(0.0, -pu / pwp)) : 0.0;
+      ws.P.head(r) *= a;
+      applyImpulses(ws);
+      st.energy_capped = true;
+    }
+  }
+}
+
+}  // namespace nscd

@@ -1,0 +1,127 @@
+// Stage 2a: bilateral rows of the ideal joints and prescribed actuators, each
+// joint kind in its own file; here the row helpers they share and the pass over
+// the model.
+#include "joint_rows.hpp"
+
+namespace nscd {
+
+Frame3 frameAround(const Vec3& axis) {
+  Frame3 f;
+  f.e[0] = axis;
+  f.e[1] = anyOrthogonal(axis);
+  f.e[2] = axis.cross(f.e[1]);
+  return f;
+}
+
+JointPlacement placeJoint(const Joint& j, const State& s) {
+  const BodyState& a = bodyOrGround(s, j.body_a);
+  const BodyState& b = bodyOrGround(s, j.body_b);
+  const Vec3 pa = a.q * j.anchor_a + a.x;
+  const Vec3 pb = b.q * j.anchor_b + b.x;
+  const Vec3 axis_a = a.q * j.axis_a;
+  return JointPlacement{a, b, pa, pb, axis_a, frameAround(axis_a), pb - pa};
+}
+
+void putRow(Eigen::MatrixXd& G, int row, const State& s, int body_a, int body_b,
+            const Vec3& lin_b, const Vec3& ang_b_world, const Vec3& lin_a,
+            const Vec3& ang_a_world) {
+  G.row(row).setZero();
+  if (body_b != kGround) {
+    const BodyState& b = s.bodies[body_b];
+    G.block<1, 3>(row, 6 * body_b) = lin_b.transpose();
+    G.block<1, 3>(row, 6 * body_b + 3) = (b.q.conjugate() * ang_b_world).transpose();
+  }
+  if (body_a != kGround) {
+    const BodyState& a = s.bodies[body_a];
+    G.block<1, 3>(row, 6 * body_a) += lin_a.transpose();
+    G.block<1, 3>(row, 6 * body_a + 3) += (a.q.conjugate() * ang_a_world).transpose();
+  }
+}
+
+void pointRow(Eigen::MatrixXd& G, int row, const State& s, int ia, int ib, const Vec3& pa,
+              const Vec3& pb, const Vec3& d) {
+  const BodyState& a = bodyOrGround(s, ia);
+  const BodyState& b = bodyOrGround(s, ib);
+  putRow(G, row, s, ia, ib, d, (pb - b.x).cross(d), -d, -((pa - a.x).cross(d)));
+}
+
+void rotationRow(Eigen::MatrixXd& G, int row, const State& s, int ia, int ib, const Vec3& d) {
+  putRow(G, row, s, ia, ib, Vec3::Zero(), d, Vec3::Zero(), -d);
+}
+
+void appendPointRows(const Joint& j, const State& s, const JointPlacement& p,
+                     ConstraintBlock& blk, int& r, Eigen::MatrixXd& G) {
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 d = Vec3::Unit(i);
+    pointRow(G, r, s, j.body_a, j.body_b, p.pa, p.pb, d);
+    blk.error[r - blk.row] = p.dp.dot(d);
+    ++r;
+  }
+}
+
+void appendOrientationLockRows(const Joint& j, const State& s, const JointPlacement& p,
+                               ConstraintBlock& blk, int& r, Eigen::MatrixXd& G) {
+  // Error: the rotation vector of q_b (q_a Z)^-1, world frame.
+  const Vec3 rot_err = logMap(p.b.q * (p.a.q * j.rel_rot_zero).conjugate());
+  for (int i = 0; i < 3; ++i) {
+    rotationRow(G, r, s, j.body_a, j.body_b, Vec3::Unit(i));
+    blk.error[r - blk.row] = rot_err[i];
+    ++r;
+  }
+}
+
+double jointCoordinate(const Joint& j, const BodyState& a, const BodyState& b) {
+  return j.type == JointType::Prismatic ? prismaticPosition(j, a, b) : revoluteAngle(j, a, b);
+}
+
+double jointRate(const Joint& j, const BodyState& a, const BodyState& b) {
+  return j.type == JointType::Prismatic ? prismaticRate(j, a, b) : revoluteRate(j, a, b);
+}
+
+double jointPosition(const Model& m, const State& s, int joint) {
+  const Joint& j = m.joints[joint];
+  return jointCoordinate(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
+}
+
+double jointVelocity(const Model& m, const State& s, int joint) {
+  const Joint& j = m.joints[joint];
+  return jointRate(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
+}
+
+void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
+                         StepWorkspace& ws) {
+  for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+    const Joint& j = m.joints[ji];
+    if (j.clearance >= 0) continue;  // replaced by unilateral contacts
+    const JointPlacement p = placeJoint(j, s);
+    ConstraintBlock blk;
+    blk.kind = BlockKind::Bilateral;
+    blk.body_a = j.body_a;
+    blk.body_b = j.body_b;
+    blk.joint = static_cast<int>(ji);
+    blk.row = ws.rows;
+    int r = ws.rows;
+    switch (j.type) {
+      case JointType::Revolute: appendRevoluteRows(j, s, p, blk, r, ws.G); break;
+      case JointType::Prismatic: appendPrismaticRows(j, s, p, blk, r, ws.G); break;
+      case JointType::Fixed: appendFixedRows(j, s, p, blk, r, ws.G); break;
+    }
+    blk.size = r - blk.row;
+    ws.rows = r;
+    ws.blocks.push_back(blk);
+  }
+  for (size_t ai = 0; ai < m.actuators.size(); ++ai) {
+    if (m.actuators[ai].type != ActuatorType::Prescribed) continue;
+    ConstraintBlock blk;
+    blk.kind = BlockKind::Bilateral;
+    blk.actuator = static_cast<int>(ai);
+    blk.row = ws.rows;
+    int r = ws.rows;
+    appendPrescribedRows(m, s, static_cast<int>(ai), rates[ai], blk, r, ws.G);
+    blk.size = r - blk.row;
+    ws.rows = r;
+    ws.blocks.push_back(blk);
+  }
+}
+
+}  // namespace nscd

@@ -1,0 +1,141 @@
+// The stages of a time step (Simulator::step calls them in this order), one file
+// each, over the immutable Model, the State and the step's workspace
+// (step_workspace.hpp). Internal to the engine.
+#pragma once
+
+#include "step_workspace.hpp"
+
+namespace nscd {
+
+// ---- set-up (step_workspace.cpp)
+// Sizes every buffer for the model and computes the model's facts; M^-1.
+// Throws std::runtime_error if the mass matrix is not positive definite.
+void initStepWorkspace(const Model& m, StepWorkspace& ws);
+// Sizes the outputs of a step for the model (all zero).
+void initStepOutputs(const Model& m, StepOutputs& out);
+// Clears the outputs of the last step (sizes kept).
+void clearStepOutputs(StepOutputs& out);
+// The state at the initial poses and velocities of the model (before assembly).
+State initialState(const Model& m, const StepWorkspace& ws);
+
+// ---- 1. forces (forces.cpp): gravity, force actuators, springs and PD actuators
+// at the state; with jacobians, their symmetrised derivatives K = dF/dq and C =
+// dF/dv. Actuator efforts of force and PD actuators go to out.
+void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
+                   bool with_jacobians);
+// Force in a spring at the state (tension, or torque on the child for torsion).
+double springForceAt(const Model& m, const State& s, int spring);
+Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
+
+// ---- 1b. iteration matrix (iteration_matrix.cpp): rhs = h F (+ h^2 theta K v_k)
+// and Ŵ = (M - h theta C - h^2 theta^2 K)^-1 when the model has stiff elements
+// (else Ŵ = M^-1). Needs ws.vk.
+void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st);
+// B (B^T A B)^-1 B^T (B: the allowed velocity directions). False if not SPD.
+bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out);
+
+// ---- 1c. free velocity (free_velocity.cpp): v_free = v_k + Ŵ rhs, with the
+// gyroscopic torques as backward-Euler impulses.
+void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
+
+// ---- 2a. bilateral rows (joint_rows.cpp, one file per joint kind): ideal joints
+// and prescribed actuators, with their position errors and rheonomic targets.
+// rates[i]: commanded rate of actuator i (prescribed).
+void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
+                         StepWorkspace& ws);
+double jointPosition(const Model& m, const State& s, int joint);
+double jointVelocity(const Model& m, const State& s, int joint);
+
+// ---- 2b. contact candidates (contact_candidates.cpp)
+// Largest turn of a contact normal between q_k and the predicted configuration
+// for which the predicted rows are used (rad).
+constexpr double kMaxPredictedTurn = 0.1;
+// Narrowphase: every contact point of the shape pairs (contact_pair.cpp) and
+// clearance joints (clearance_joint.cpp) within reach of the step (or of the
+// projection's correction, extra_margin), into ws.candidates. ring_hint (2 per
+// clearance joint) starts the ring searches and is updated. In Step mode with
+// contact_prediction > 0, a candidate's rows come from the same feature at
+// ws.predicted (q_k + h v_k, Siconos's convention) when its normal there turns by
+// less than kMaxPredictedTurn; gaps and activation stay those of q_k.
+void findContactCandidates(const Model& m, const State& s, double h, CandidateMode mode,
+                           double extra_margin, double* ring_hint, StepWorkspace& ws);
+// Activation and rows: in Step mode, a candidate whose gap closes within the step
+// (predicted from v_k, or from v_free) gets its rows, the others wait in
+// ws.deferred; in the projection modes every candidate gets a normal row.
+void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,
+                      StepWorkspace& ws);
+// Deferred candidates that close under the solved velocity ws.vnew (g + h
+// u_N(v_new) <= 0) get their rows. Returns how many.
+int activateLateContacts(const Model& m, const State& s, double h, StepWorkspace& ws);
+// Writes the Jacobian rows of block `blk` (geometry blk.contact.row_cp) into G;
+// `s` is the state that geometry belongs to.
+void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::MatrixXd& G);
+
+// ---- 3. Delassus operator (delassus_operator.cpp): Y = Ŵ G^T and W = G Y for
+// rows [from, r), from the two bodies of each row; rows below `from` are kept
+// (rows appended to a problem already assembled). block_diagonal: Ŵ couples no two
+// bodies, so each row is mapped by its bodies' 6 x 6 blocks alone.
+void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
+                      StepWorkspace& ws, int from, int r);
+
+// ---- 4a. the friction-contact problem (friction_contact_problem.cpp): b = G v_free
+// minus the bilateral targets plus the Newton impact shift e U_N,k, the problem
+// blocks, and the impulses of rows from `kept` on warm-started from the State.
+void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepWorkspace& ws,
+                                 StepStats& st);
+// Takes the Newton impact shift back out of b: the plastic problem.
+void removeRestitution(StepWorkspace& ws);
+
+// ---- 4b. solve (contact_solve.cpp): the problem of rows [0, ws.rows), then
+// v+ = v_free + Ŵ G^T P into ws.vnew. A non-finite answer is solved again cold by
+// plain NSGS (options then say so, for the safeguards' re-solves).
+SolverOptions solverOptions(const Settings& set);
+SolverReport solveFrictionContact(StepWorkspace& ws, SolverOptions& options);
+void applyImpulses(StepWorkspace& ws);
+
+// ---- 4c. safeguards (impact_safeguards.cpp): an impact that would add energy is
+// solved plastic; a problem left far from solved is taken frictionless and
+// plastic, then scaled so it adds no kinetic energy. Each counted in st.
+void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
+                           SolverReport& rep, StepStats& st);
+
+// ---- 4d. store (impulse_reports.cpp): the impulses as the next step's warm start
+// (in the State), the efforts of prescribed motions, one report per contact point
+// and the sums per named contact and clearance joint.
+void storeImpulses(const Model& m, double h, State& s, const StepWorkspace& ws,
+                   StepOutputs& out);
+
+// ---- 5. integrate (time_integration.cpp): x, q from theta v_{k+1} + (1 - theta)
+// v_k, v = v_{k+1}, t += h; the commands become the previous commands.
+void advanceState(const Model& m, double h, const StepWorkspace& ws, State& s);
+void integratePositions(State& s, const Eigen::VectorXd& vk, const Eigen::VectorXd& vnew,
+                        double h, double theta);
+// out = s with positions advanced by `ahead` * v (velocities kept). out.bodies
+// must have s's size (no allocation).
+void predictState(const State& s, double ahead, State& out);
+void applyDisplacement(State& s, const Eigen::VectorXd& dq);
+void stateVelocities(const State& s, Eigen::VectorXd& v);
+void setStateVelocities(State& s, const Eigen::VectorXd& v);
+
+// ---- 6. projection (projection.cpp): positions onto {g >= 0, h = 0} until the
+// violation is below tol or max_passes; returns the passes, writes the remaining
+// violation. Updates s (positions and ring hints).
+int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
+                     double& violation, StepStats& st);
+// Largest penetration of the unilateral contacts (positive length) of the state;
+// the largest bilateral position error goes to *bilateral if given. Uses a copy
+// of the state's ring hints: the state is not changed.
+double measureViolation(const Model& m, const State& s, StepWorkspace& ws,
+                        double* bilateral = nullptr);
+
+// ---- 7. energy bookkeeping (energy_bookkeeping.cpp)
+EnergyReport potentialEnergyOf(const Model& m, const State& s);
+double kineticEnergyOf(const Model& m, const State& s);
+// Kinetic energy of a generalized velocity (linear world, angular body frame).
+double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
+// In a scene without actuators, potential energy the projection added (it lifted
+// a body that drifted into a contact) is taken back from the kinetic energy.
+// Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, double potential_before, State& s);
+
+}  // namespace nscd

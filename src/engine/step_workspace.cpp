@@ -1,0 +1,152 @@
+// Set-up: every buffer of the step sized once for the model (a step allocates
+// nothing), the facts of the model the stages need, and the initial state.
+#include <limits>
+#include <stdexcept>
+
+#include "step_stages.hpp"
+
+namespace nscd {
+namespace {
+
+// Bilateral rows of the ideal joints and prescribed actuators, and the first
+// warm-start slot of each.
+int bilateralRowCount(const Model& m, std::vector<int>& joint_base, std::vector<int>& act_base) {
+  int rows = 0;
+  joint_base.assign(m.joints.size(), -1);
+  act_base.assign(m.actuators.size(), -1);
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    if (m.joints[j].clearance >= 0) continue;
+    joint_base[j] = rows;
+    rows += m.joints[j].type == JointType::Fixed ? 6 : 5;
+  }
+  for (size_t a = 0; a < m.actuators.size(); ++a) {
+    if (m.actuators[a].type != ActuatorType::Prescribed) continue;
+    act_base[a] = rows;
+    rows += m.actuators[a].joint >= 0 ? 1 : 6;
+  }
+  return rows;
+}
+
+// Springs and PD actuators couple bodies and need the iteration matrix.
+bool hasStiffElements(const Model& m) {
+  if (!m.springs.empty()) return true;
+  for (const Actuator& a : m.actuators)
+    if (a.type == ActuatorType::Position) return true;
+  return false;
+}
+
+}  // namespace
+
+void initStepWorkspace(const Model& m, StepWorkspace& ws) {
+  ModelFacts& f = ws.facts;
+  ws.nbodies = static_cast<int>(m.bodies.size());
+  ws.n = 6 * ws.nbodies;
+  const int n = ws.n;
+  f.bilateral_rows = bilateralRowCount(m, f.joint_row_base, f.actuator_row_base);
+  f.contact_slots = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair +
+                    static_cast<int>(m.clearance_joints.size()) * kMaxClearancePoints;
+  f.contact_slot_base_clearance = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair;
+  f.stiff = hasStiffElements(m);
+  f.planar = m.settings.planar == PlanarMode::XY;
+  f.no_input = m.actuators.empty();
+  ws.max_rows = f.bilateral_rows + 3 * f.contact_slots;
+  const int mr = std::max(ws.max_rows, 1);
+  ws.F = Eigen::VectorXd::Zero(n);
+  ws.K = Eigen::MatrixXd::Zero(n, n);
+  ws.C = Eigen::MatrixXd::Zero(n, n);
+  ws.A = Eigen::MatrixXd::Zero(n, n);
+  ws.iteration_inverse = Eigen::MatrixXd::Zero(n, n);
+  ws.mass_inverse = Eigen::MatrixXd::Zero(n, n);
+  ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
+  ws.saved_bodies.resize(m.bodies.size());
+  ws.predicted.bodies.resize(m.bodies.size());
+  ws.G = Eigen::MatrixXd::Zero(mr, n);
+  ws.Y = Eigen::MatrixXd::Zero(n, mr);
+  ws.W = Eigen::MatrixXd::Zero(mr, mr);
+  ws.b = ws.P = Eigen::VectorXd::Zero(mr);
+  ws.blocks.reserve(mr);
+  // Projection passes add up to kRingFacets facets per penetrating ring.
+  ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());
+  ws.deferred.reserve(f.contact_slots);
+  ws.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
+  ws.row_bodies.assign(mr, {kGround, kGround});
+  ws.problem.reserve(mr);
+  ws.rates.assign(m.actuators.size(), 0.0);
+  ws.zero_rates.assign(m.actuators.size(), 0.0);
+
+  // Allowed velocity directions: all, or the x-y plane motions (3 per body).
+  const bool planar = f.planar;
+  ws.basis = Eigen::MatrixXd::Zero(n, planar ? 3 * ws.nbodies : n);
+  for (int i = 0; i < ws.nbodies; ++i) {
+    if (!planar) {
+      ws.basis.block<6, 6>(6 * i, 6 * i).setIdentity();
+    } else {
+      ws.basis(6 * i + 0, 3 * i + 0) = 1;
+      ws.basis(6 * i + 1, 3 * i + 1) = 1;
+      // rotation about world z, in body coordinates (constant under planar motion)
+      ws.basis.block<3, 1>(6 * i + 3, 3 * i + 2) =
+          m.bodies[i].initial_pose.q.conjugate() * Vec3::UnitZ();
+    }
+  }
+  ws.AB = Eigen::MatrixXd::Zero(n, ws.basis.cols());
+  ws.red = Eigen::MatrixXd::Zero(ws.basis.cols(), ws.basis.cols());
+  ws.BT = Eigen::MatrixXd::Zero(ws.basis.cols(), n);
+  // Constant mass matrix and its (planar-projected) inverse.
+  for (int i = 0; i < ws.nbodies; ++i) {
+    ws.A.block<3, 3>(6 * i, 6 * i) = m.bodies[i].mass * Mat3::Identity();
+    ws.A.block<3, 3>(6 * i + 3, 6 * i + 3) = m.bodies[i].inertia;
+  }
+  if (!reducedInverse(ws.A, ws, ws.mass_inverse))
+    throw std::runtime_error(m.source_file + ": mass matrix is not positive definite");
+  ws.iteration_inverse = ws.mass_inverse;
+}
+
+void initStepOutputs(const Model& m, StepOutputs& out) {
+  out.reports.reserve(3 * (m.contacts.size() * kMaxPointsPerPair +
+                           m.clearance_joints.size() * kMaxClearancePoints) + 1);
+  out.actuator_effort.assign(m.actuators.size(), 0.0);
+  out.pair_fn.assign(m.contacts.size(), 0.0);
+  out.pair_ft.assign(m.contacts.size(), 0.0);
+  out.pair_ft_vec.assign(m.contacts.size(), Vec3::Zero());
+  out.cj_fn.assign(m.clearance_joints.size(), 0.0);
+  clearStepOutputs(out);
+}
+
+void clearStepOutputs(StepOutputs& out) {
+  out.stats = StepStats();
+  out.penetration_pending = false;
+  out.reports.clear();
+  std::fill(out.actuator_effort.begin(), out.actuator_effort.end(), 0.0);
+  std::fill(out.pair_fn.begin(), out.pair_fn.end(), 0.0);
+  std::fill(out.pair_ft.begin(), out.pair_ft.end(), 0.0);
+  std::fill(out.pair_ft_vec.begin(), out.pair_ft_vec.end(), Vec3::Zero());
+  std::fill(out.cj_fn.begin(), out.cj_fn.end(), 0.0);
+}
+
+State initialState(const Model& m, const StepWorkspace& ws) {
+  State s;
+  s.t = 0;
+  s.bodies.resize(ws.nbodies);
+  for (int i = 0; i < ws.nbodies; ++i) {
+    const Body& b = m.bodies[i];
+    BodyState& bs = s.bodies[i];
+    bs.x = b.initial_pose.p;
+    bs.q = b.initial_pose.q.normalized();
+    bs.v = b.initial_velocity;
+    bs.w = bs.q.conjugate() * b.initial_angular_velocity;
+    if (ws.facts.planar) {  // keep only the in-plane part of the initial velocity
+      bs.v.z() = 0;
+      bs.w = bs.q.conjugate() * Vec3(0, 0, (bs.q * bs.w).z());
+    }
+  }
+  s.commands.resize(m.actuators.size());
+  for (size_t i = 0; i < m.actuators.size(); ++i) s.commands[i] = m.actuators[i].initial_command;
+  s.prev_commands = s.commands;
+  s.warm.assign(ws.facts.contact_slots, Vec3::Zero());
+  s.warm_valid.assign(ws.facts.contact_slots, 0);
+  s.warm_bilateral.assign(ws.facts.bilateral_rows, 0.0);
+  s.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
+  return s;
+}
+
+}  // namespace nscd
