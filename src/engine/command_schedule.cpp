@@ -1,9 +1,12 @@
-// Piecewise-linear command schedules for headless runs.
+// Piecewise-linear command schedules, and their binding to a model's actuators.
 #include "nscd_sim/command_schedule.hpp"
 
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "nscd_sim/model.hpp"
+#include "nscd_sim/simulator.hpp"
 
 namespace nscd {
 
@@ -27,7 +30,7 @@ double parseNumber(const std::string& s, const std::string& whole) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
-    throw std::invalid_argument("--command " + whole + ": '" + s + "' is not a finite number");
+    throw std::invalid_argument("schedule '" + whole + "': '" + s + "' is not a finite number");
   return v;
 }
 }  // namespace
@@ -36,10 +39,10 @@ CommandSchedule parseCommandSchedule(const std::string& text) {
   CommandSchedule sch;
   const size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw std::invalid_argument("--command " + text + ": expected NAME=t0:v0,t1:v1,...");
+    throw std::invalid_argument("schedule '" + text + "': expected NAME=t0:v0,t1:v1,...");
   sch.actuator = text.substr(0, eq);
   std::string rest = text.substr(eq + 1);
-  if (rest.empty()) throw std::invalid_argument("--command " + text + ": no time:value pairs");
+  if (rest.empty()) throw std::invalid_argument("schedule '" + text + "': no time:value pairs");
   size_t pos = 0;
   while (pos <= rest.size()) {
     size_t comma = rest.find(',', pos);
@@ -47,15 +50,40 @@ CommandSchedule parseCommandSchedule(const std::string& text) {
     const std::string item = rest.substr(pos, comma - pos);
     const size_t colon = item.find(':');
     if (colon == std::string::npos)
-      throw std::invalid_argument("--command " + text + ": '" + item + "' is not time:value");
+      throw std::invalid_argument("schedule '" + text + "': '" + item + "' is not time:value");
     const double t = parseNumber(item.substr(0, colon), text);
     const double v = parseNumber(item.substr(colon + 1), text);
     if (!sch.points.empty() && t < sch.points.back().first)
-      throw std::invalid_argument("--command " + text + ": times must not decrease");
+      throw std::invalid_argument("schedule '" + text + "': times must not decrease");
     sch.points.emplace_back(t, v);
     pos = comma + 1;
   }
   return sch;
+}
+
+std::vector<BoundSchedule> bindCommandSchedules(const std::vector<std::string>& texts,
+                                                const Model& model) {
+  std::vector<BoundSchedule> out;
+  for (const std::string& text : texts) {
+    BoundSchedule b;
+    b.schedule = parseCommandSchedule(text);
+    b.actuator = model.findActuator(b.schedule.actuator);
+    if (b.actuator < 0) {
+      std::string names;
+      for (const Actuator& a : model.actuators) names += (names.empty() ? "" : ", ") + a.name;
+      throw std::invalid_argument("the scene has no actuator '" + b.schedule.actuator +
+                                  "' (actuators: " + (names.empty() ? "none" : names) + ")");
+    }
+    for (const BoundSchedule& other : out)
+      if (other.actuator == b.actuator)
+        throw std::invalid_argument("two schedules for actuator '" + b.schedule.actuator + "'");
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+void applySchedules(const std::vector<BoundSchedule>& schedules, double t, Simulator& sim) {
+  for (const BoundSchedule& b : schedules) sim.setCommand(b.actuator, b.schedule.value(t));
 }
 
 }  // namespace nscd

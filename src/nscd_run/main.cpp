@@ -94,8 +94,7 @@ int main(int argc, char** argv) {
 
   std::vector<nscd::SettingOverride> overrides;
   std::unique_ptr<nscd::Simulator> sim;
-  std::vector<nscd::CommandSchedule> schedules;
-  std::vector<int> schedule_actuator;
+  std::vector<nscd::BoundSchedule> schedules;
   try {
     if (!config.empty()) overrides = nscd::readSettingsYaml(config);
     for (const std::string& s : sets) {
@@ -111,17 +110,10 @@ int main(int argc, char** argv) {
       overrides.push_back({"dt", os.str(), "--dt"});
     }
     nscd::Model model = nscd::loadScene(scene, overrides);
-    for (const std::string& c : commands) {
-      nscd::CommandSchedule sch = nscd::parseCommandSchedule(c);
-      const int a = model.findActuator(sch.actuator);
-      if (a < 0) {
-        std::string names;
-        for (const nscd::Actuator& ac : model.actuators) names += (names.empty() ? "" : ", ") + ac.name;
-        return badInput("nscd_run: --command: unknown actuator '" + sch.actuator + "' (scene has: " +
-                        (names.empty() ? "none" : names) + ")");
-      }
-      schedules.push_back(sch);
-      schedule_actuator.push_back(a);
+    try {
+      schedules = nscd::bindCommandSchedules(commands, model);
+    } catch (const std::invalid_argument& e) {
+      return badInput(std::string("nscd_run: --command: ") + e.what());
     }
     sim = std::make_unique<nscd::Simulator>(std::move(model));
   } catch (const nscd::SceneError& e) {
@@ -141,7 +133,7 @@ int main(int argc, char** argv) {
 
   const double h = sim->model().settings.dt;
   const long steps = static_cast<long>(std::llround(duration / h));
-  for (size_t i = 0; i < schedules.size(); ++i) sim->setCommand(schedule_actuator[i], schedules[i].value(0.0));
+  nscd::applySchedules(schedules, 0.0, *sim);
   if (writer) writer->writeRow(*sim);
   const double energy_initial = sim->energy().total();
   ProgressBar progress(!quiet && isatty(2), steps * h);
@@ -155,9 +147,7 @@ int main(int argc, char** argv) {
   long k = 0;
   int status = 0;
   for (k = 1; k <= steps; ++k) {
-    const double t_next = k * h;
-    for (size_t i = 0; i < schedules.size(); ++i)
-      sim->setCommand(schedule_actuator[i], schedules[i].value(t_next));
+    nscd::applySchedules(schedules, k * h, *sim);  // the command at the end of the step
     const nscd::StepStatus st = sim->step();
     const nscd::StepStats& s = sim->stats();
     iters_sum += s.iterations;

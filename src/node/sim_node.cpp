@@ -1,19 +1,18 @@
-// nscd_sim_node: the ROS 1 front end of the engine. It owns one nscd::Simulator,
-// steps it at ~real_time_factor and publishes tf, contacts, markers, /clock and
-// /diagnostics at ~publish_rate. Nothing physical is decided here.
+// The node proper: owns one nscd::Simulator, steps it at the real-time factor and
+// publishes tf, contacts, key figures, markers, /clock and /diagnostics at
+// ~publish_rate; serves ~reset, ~pause, ~step and the actuator command topics.
+// Nothing physical is decided here.
 //
-// Threads: the main thread runs the stepping/publishing loop; one AsyncSpinner
-// thread serves topics and services. `mutex_` guards the simulator and the
-// counters; it is taken per step, so a callback waits at most one step.
-//
-// Exit status: 0 at shutdown; 2 bad input (scene or parameters), with one
-// ROS_FATAL line naming the file and line.
+// Threads: the caller's thread runs the stepping/publishing loop; one
+// AsyncSpinner thread serves topics and services. `mutex_` guards the simulator
+// and the counters; it is taken per step, so a callback waits at most one step.
+#include "sim_node.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
@@ -23,7 +22,6 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/master.h>
-#include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
@@ -35,9 +33,7 @@
 #include "nscd_sim/ContactArray.h"
 #include "nscd_sim/KeyFigures.h"
 #include "nscd_sim/Step.h"
-#include "nscd_sim/command_schedule.hpp"
-#include "nscd_sim/scene_loader.hpp"
-#include "nscd_sim/simulator.hpp"
+#include "real_time_pacer.hpp"
 #include "ros_conversions.hpp"
 
 namespace nscd_node {
@@ -67,152 +63,13 @@ class WallThrottle {
   SteadyClock::time_point last_;
 };
 
-// Node parameters other than the simulation settings.
-struct NodeOptions {
-  double real_time_factor = 1.0;  // 0 = as fast as possible
-  double publish_rate = 30.0;     // Hz
-  double diagnostics_rate = 1.0;  // Hz
-  bool start_paused = false;
-  bool use_sim_time = false;
-  MarkerStyle markers;
-  std::vector<std::string> schedules;  // "NAME=t0:v0,t1:v1,..." as for nscd_run --command
-};
-
-const std::vector<std::string>& nodeParamKeys() {
-  static const std::vector<std::string> keys = {
-      "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
-      "force_scale", "marker_size", "ecc_scale", "schedule"};
-  return keys;
-}
-
-// A finite number parameter, > 0 if `positive` else >= 0 (int, double or numeric
-// string); `fallback` when absent. Throws nscd::SceneError.
-double numberParam(const ros::NodeHandle& pnh, const std::string& key, double fallback,
-                   bool positive) {
-  XmlRpc::XmlRpcValue v;
-  if (!pnh.getParam(key, v)) return fallback;
-  std::string text;
-  char* end = nullptr;
-  double x = NAN;
-  if (paramToString(v, text) && v.getType() != XmlRpc::XmlRpcValue::TypeArray &&
-      v.getType() != XmlRpc::XmlRpcValue::TypeBoolean && !text.empty())
-    x = std::strtod(text.c_str(), &end);
-  const bool ok = end && *end == '\0' && std::isfinite(x) && (positive ? x > 0 : x >= 0);
-  if (!ok)
-    throw nscd::SceneError("parameter " + pnh.resolveName(key) + ": expected a " +
-                           (positive ? "positive" : "non-negative") + " number");
-  return x;
-}
-
-NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
-  NodeOptions o;
-  o.real_time_factor = numberParam(pnh, "real_time_factor", o.real_time_factor, false);
-  o.publish_rate = numberParam(pnh, "publish_rate", o.publish_rate, true);
-  o.diagnostics_rate = numberParam(pnh, "diagnostics_rate", o.diagnostics_rate, true);
-  o.markers.force_scale = numberParam(pnh, "force_scale", o.markers.force_scale, false);
-  o.markers.size = numberParam(pnh, "marker_size", o.markers.size, true);
-  o.markers.ecc_scale = numberParam(pnh, "ecc_scale", o.markers.ecc_scale, false);
-  pnh.param("start_paused", o.start_paused, o.start_paused);
-  ros::param::param("/use_sim_time", o.use_sim_time, false);
-  XmlRpc::XmlRpcValue v;
-  if (pnh.getParam("schedule", v)) {
-    const std::string where = "parameter " + pnh.resolveName("schedule");
-    if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
-      o.schedules.push_back(static_cast<std::string>(v));
-    } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
-      for (int i = 0; i < v.size(); ++i) {
-        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
-          throw nscd::SceneError(where + ": expected strings \"NAME=t0:v0,t1:v1,...\"");
-        o.schedules.push_back(static_cast<std::string>(v[i]));
-      }
-    } else {
-      throw nscd::SceneError(where + ": expected a string or a list of strings " +
-                             "\"NAME=t0:v0,t1:v1,...\"");
-    }
-  }
-  return o;
-}
-
-// An actuator command schedule the node follows until a topic command takes over.
-struct ScheduledCommand {
-  int actuator = -1;
-  nscd::CommandSchedule schedule;
-  bool active = true;
-};
-
-// Parses ~schedule against the scene's actuators. Throws nscd::SceneError.
-std::vector<ScheduledCommand> parseSchedules(const ros::NodeHandle& pnh,
-                                             const std::vector<std::string>& texts,
-                                             const nscd::Model& model) {
-  std::vector<ScheduledCommand> out;
-  const std::string where = "parameter " + pnh.resolveName("schedule");
-  for (const std::string& text : texts) {
-    ScheduledCommand c;
-    try {
-      c.schedule = nscd::parseCommandSchedule(text);
-    } catch (const std::exception& e) {
-      throw nscd::SceneError(where + ": " + e.what());
-    }
-    for (size_t i = 0; i < model.actuators.size(); ++i)
-      if (model.actuators[i].name == c.schedule.actuator) c.actuator = static_cast<int>(i);
-    if (c.actuator < 0) {
-      std::string names;
-      for (const nscd::Actuator& a : model.actuators) names += (names.empty() ? "" : ", ") + a.name;
-      throw nscd::SceneError(where + ": the scene has no actuator '" + c.schedule.actuator +
-                             "' (actuators: " + (names.empty() ? "none" : names) + ")");
-    }
-    for (const ScheduledCommand& other : out)
-      if (other.actuator == c.actuator)
-        throw nscd::SceneError(where + ": two schedules for actuator '" + c.schedule.actuator +
-                               "'");
-    out.push_back(std::move(c));
-  }
-  return out;
-}
-
-// Typos in parameter names would otherwise pass silently.
-void warnUnknownParams(const ros::NodeHandle& pnh) {
-  std::set<std::string> known(nodeParamKeys().begin(), nodeParamKeys().end());
-  known.insert(nscd::settingKeys().begin(), nscd::settingKeys().end());
-  std::vector<std::string> names;
-  if (!ros::param::getParamNames(names)) return;
-  const std::string prefix = pnh.getNamespace() + "/";
-  for (const std::string& n : names) {
-    if (n.compare(0, prefix.size(), prefix) != 0) continue;
-    const std::string key = n.substr(prefix.size());
-    if (known.count(key.substr(0, key.find('/')))) continue;
-    std::string node_keys;
-    for (const std::string& k : nodeParamKeys()) node_keys += (node_keys.empty() ? "" : ", ") + k;
-    ROS_WARN("unknown parameter %s ignored (known: the simulation settings and %s)", n.c_str(),
-             node_keys.c_str());
-  }
-}
-
-// ~scene (a file) if set, else robot_description. Throws nscd::SceneError.
-nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
-  const std::vector<nscd::SettingOverride> overrides = settingOverridesFromParams(pnh);
-  XmlRpc::XmlRpcValue scene;
-  if (pnh.getParam("scene", scene)) {
-    if (scene.getType() != XmlRpc::XmlRpcValue::TypeString)
-      throw nscd::SceneError("parameter " + pnh.resolveName("scene") +
-                             ": expected a string (the scene file's path), got " +
-                             paramTypeName(scene));
-    const std::string path = static_cast<std::string>(scene);
-    if (!path.empty()) return nscd::loadScene(path, overrides);
-  }
-  std::string xml;
-  if (nh.getParam("robot_description", xml) && !xml.empty())
-    return nscd::loadSceneFromString(xml, nh.resolveName("robot_description"), overrides);
-  throw nscd::SceneError(pnh.resolveName("scene") + ": no scene: set ~scene to a file or " +
-                         nh.resolveName("robot_description") + " to the URDF text");
-}
-
 class SimNode {
  public:
   SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
-          const NodeOptions& options, std::vector<ScheduledCommand> schedules)
+          const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules)
       : nh_(nh), pnh_(pnh), sim_(std::move(sim)), opt_(options),
-        schedules_(std::move(schedules)) {
+        pacer_(options.real_time_factor, sim_->model().settings.dt) {
+    for (const nscd::BoundSchedule& b : schedules) schedules_.push_back({b.actuator, b.schedule, true});
     const nscd::Model& model = sim_->model();
     scene_name_ = model.source_file;
     opt_.markers.frame = model.world_frame;
@@ -282,7 +139,6 @@ class SimNode {
   void run() {
     const auto pub_period = wallDuration(1.0 / opt_.publish_rate);
     const auto diag_period = wallDuration(1.0 / opt_.diagnostics_rate);
-    const double dt = sim_->model().settings.dt;
     auto next_pub = SteadyClock::now();
     auto next_diag = next_pub + diag_period;
     window_start_ = next_pub;
@@ -291,18 +147,13 @@ class SimNode {
     while (ros::ok()) {
       if (reanchor_requested_.exchange(false)) reanchor();
       if (running_) {
-        if (opt_.real_time_factor > 0) {
-          // Step up to where the wall clock says sim time should be, in batches that
-          // end at the next publication; drop a backlog the engine cannot catch up.
-          const double target =
-              anchor_sim_ + opt_.real_time_factor * seconds(SteadyClock::now() - anchor_wall_);
-          while (SteadyClock::now() < next_pub && stepOnce(target - 0.5 * dt)) {
-          }
-          if ((target - simTime()) / opt_.real_time_factor > 0.25) reanchor();
-        } else {
-          while (SteadyClock::now() < next_pub && stepOnce(INFINITY)) {
-          }
+        // Step up to where the wall clock says sim time should be, in batches that
+        // end at the next publication; drop a backlog the engine cannot catch up.
+        const auto start = SteadyClock::now();
+        const double limit = pacer_.stepLimit(start);
+        while (SteadyClock::now() < next_pub && stepOnce(limit)) {
         }
+        if (pacer_.behind(start, simTime())) reanchor();
       }
 
       auto now = SteadyClock::now();
@@ -324,9 +175,8 @@ class SimNode {
       now = SteadyClock::now();
       auto wake = std::min({next_pub, next_diag, now + std::chrono::milliseconds(5)});
       if (running_) {
-        if (opt_.real_time_factor == 0) continue;
-        const double ahead = simTime() + 0.5 * dt - anchor_sim_;  // sim s past the anchor
-        const auto next_step = anchor_wall_ + wallDuration(ahead / opt_.real_time_factor);
+        if (!pacer_.paced()) continue;
+        const auto next_step = pacer_.nextStepDue(now, simTime());
         if (next_step <= now) continue;
         wake = std::min(wake, next_step);
       }
@@ -340,10 +190,7 @@ class SimNode {
     return sim_->state().t;
   }
 
-  void reanchor() {
-    anchor_wall_ = SteadyClock::now();
-    anchor_sim_ = simTime();
-  }
+  void reanchor() { pacer_.reanchor(SteadyClock::now(), simTime()); }
 
   // Callbacks lock through this: the stepping loop, which retakes mutex_ after
   // every step, lets a waiting callback in first (std::mutex is not fair).
@@ -608,6 +455,12 @@ class SimNode {
   ros::NodeHandle& pnh_;
   std::unique_ptr<nscd::Simulator> sim_;
   NodeOptions opt_;
+  // An actuator command schedule the node follows until a topic command takes over.
+  struct ScheduledCommand {
+    int actuator = -1;
+    nscd::CommandSchedule schedule;
+    bool active = true;
+  };
   std::vector<ScheduledCommand> schedules_;  // guarded by mutex_
   std::string scene_name_;
 
@@ -625,9 +478,7 @@ class SimNode {
   int window_publishes_ = 0;  // loop thread only
   SteadyClock::time_point window_start_;
 
-  // Pacing (loop thread only): sim time anchor_sim_ was reached at anchor_wall_.
-  SteadyClock::time_point anchor_wall_;
-  double anchor_sim_ = 0;
+  RealTimePacer pacer_;  // loop thread only
 
   std::vector<int> tf_links_;
   tf2_msgs::TFMessage tf_msg_;  // written by the loop thread under mutex_
@@ -647,32 +498,14 @@ class SimNode {
 };
 
 }  // namespace
-}  // namespace nscd_node
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "nscd_sim_node");
-  ros::NodeHandle nh;
-  ros::NodeHandle pnh("~");
-
-  std::unique_ptr<nscd::Simulator> sim;
-  nscd_node::NodeOptions options;
-  std::vector<nscd_node::ScheduledCommand> schedules;
-  try {
-    options = nscd_node::readNodeOptions(pnh);
-    nscd::Model model = nscd_node::loadModel(nh, pnh);
-    // The engine's assembly errors already name the scene file.
-    sim = std::make_unique<nscd::Simulator>(std::move(model));
-    schedules = nscd_node::parseSchedules(pnh, options.schedules, sim->model());
-  } catch (const std::exception& e) {
-    ROS_FATAL("%s", e.what());
-    return 2;
-  }
-  nscd_node::warnUnknownParams(pnh);
-
-  nscd_node::SimNode node(nh, pnh, std::move(sim), options, std::move(schedules));
+void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
+                const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules) {
+  SimNode node(nh, pnh, std::move(sim), options, schedules);
   ros::AsyncSpinner spinner(1);
   spinner.start();
   node.run();
   spinner.stop();
-  return 0;
 }
+
+}  // namespace nscd_node

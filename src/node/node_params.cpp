@@ -1,0 +1,116 @@
+// The node's parameters (node_params.hpp).
+#include "node_params.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+
+#include "nscd_sim/scene_loader.hpp"
+#include "ros_conversions.hpp"
+
+namespace nscd_node {
+namespace {
+
+// A finite number parameter, > 0 if `positive` else >= 0 (int, double or numeric
+// string); `fallback` when absent. Throws nscd::SceneError.
+double numberParam(const ros::NodeHandle& pnh, const std::string& key, double fallback,
+                   bool positive) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(key, v)) return fallback;
+  std::string text;
+  char* end = nullptr;
+  double x = NAN;
+  if (paramToString(v, text) && v.getType() != XmlRpc::XmlRpcValue::TypeArray &&
+      v.getType() != XmlRpc::XmlRpcValue::TypeBoolean && !text.empty())
+    x = std::strtod(text.c_str(), &end);
+  const bool ok = end && *end == '\0' && std::isfinite(x) && (positive ? x > 0 : x >= 0);
+  if (!ok)
+    throw nscd::SceneError("parameter " + pnh.resolveName(key) + ": expected a " +
+                           (positive ? "positive" : "non-negative") + " number");
+  return x;
+}
+
+}  // namespace
+
+const std::vector<std::string>& nodeParamKeys() {
+  static const std::vector<std::string> keys = {
+      "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
+      "force_scale", "marker_size", "ecc_scale", "schedule"};
+  return keys;
+}
+
+NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
+  NodeOptions o;
+  o.real_time_factor = numberParam(pnh, "real_time_factor", o.real_time_factor, false);
+  o.publish_rate = numberParam(pnh, "publish_rate", o.publish_rate, true);
+  o.diagnostics_rate = numberParam(pnh, "diagnostics_rate", o.diagnostics_rate, true);
+  o.markers.force_scale = numberParam(pnh, "force_scale", o.markers.force_scale, false);
+  o.markers.size = numberParam(pnh, "marker_size", o.markers.size, true);
+  o.markers.ecc_scale = numberParam(pnh, "ecc_scale", o.markers.ecc_scale, false);
+  pnh.param("start_paused", o.start_paused, o.start_paused);
+  ros::param::param("/use_sim_time", o.use_sim_time, false);
+  XmlRpc::XmlRpcValue v;
+  if (pnh.getParam("schedule", v)) {
+    const std::string where = "parameter " + pnh.resolveName("schedule");
+    if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      o.schedules.push_back(static_cast<std::string>(v));
+    } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+      for (int i = 0; i < v.size(); ++i) {
+        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+          throw nscd::SceneError(where + ": expected strings \"NAME=t0:v0,t1:v1,...\"");
+        o.schedules.push_back(static_cast<std::string>(v[i]));
+      }
+    } else {
+      throw nscd::SceneError(where + ": expected a string or a list of strings " +
+                             "\"NAME=t0:v0,t1:v1,...\"");
+    }
+  }
+  return o;
+}
+
+std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,
+                                               const std::vector<std::string>& texts,
+                                               const nscd::Model& model) {
+  try {
+    return nscd::bindCommandSchedules(texts, model);
+  } catch (const std::invalid_argument& e) {
+    throw nscd::SceneError("parameter " + pnh.resolveName("schedule") + ": " + e.what());
+  }
+}
+
+void warnUnknownParams(const ros::NodeHandle& pnh) {
+  std::set<std::string> known(nodeParamKeys().begin(), nodeParamKeys().end());
+  known.insert(nscd::settingKeys().begin(), nscd::settingKeys().end());
+  std::vector<std::string> names;
+  if (!ros::param::getParamNames(names)) return;
+  const std::string prefix = pnh.getNamespace() + "/";
+  for (const std::string& n : names) {
+    if (n.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string key = n.substr(prefix.size());
+    if (known.count(key.substr(0, key.find('/')))) continue;
+    std::string node_keys;
+    for (const std::string& k : nodeParamKeys()) node_keys += (node_keys.empty() ? "" : ", ") + k;
+    ROS_WARN("unknown parameter %s ignored (known: the simulation settings and %s)", n.c_str(),
+             node_keys.c_str());
+  }
+}
+
+nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
+  const std::vector<nscd::SettingOverride> overrides = settingOverridesFromParams(pnh);
+  XmlRpc::XmlRpcValue scene;
+  if (pnh.getParam("scene", scene)) {
+    if (scene.getType() != XmlRpc::XmlRpcValue::TypeString)
+      throw nscd::SceneError("parameter " + pnh.resolveName("scene") +
+                             ": expected a string (the scene file's path), got " +
+                             paramTypeName(scene));
+    const std::string path = static_cast<std::string>(scene);
+    if (!path.empty()) return nscd::loadScene(path, overrides);
+  }
+  std::string xml;
+  if (nh.getParam("robot_description", xml) && !xml.empty())
+    return nscd::loadSceneFromString(xml, nh.resolveName("robot_description"), overrides);
+  throw nscd::SceneError(pnh.resolveName("scene") + ": no scene: set ~scene to a file or " +
+                         nh.resolveName("robot_description") + " to the URDF text");
+}
+
+}  // namespace nscd_node

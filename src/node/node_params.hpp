@@ -1,0 +1,46 @@
+// The node's parameters: its own (pacing, publishing, markers, schedules) read
+// and checked, the scene from ~scene or robot_description, and a warning for
+// parameters nobody reads. Each error is one nscd::SceneError line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+#include "contact_markers.hpp"
+#include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/model.hpp"
+
+namespace nscd_node {
+
+// Node parameters other than the simulation settings.
+struct NodeOptions {
+  double real_time_factor = 1.0;  // 0 = as fast as possible
+  double publish_rate = 30.0;     // Hz
+  double diagnostics_rate = 1.0;  // Hz
+  bool start_paused = false;
+  bool use_sim_time = false;
+  MarkerStyle markers;
+  std::vector<std::string> schedules;  // "NAME=t0:v0,t1:v1,..." as for nscd_run --command
+};
+
+// The node's own parameter names (the simulation settings come on top).
+const std::vector<std::string>& nodeParamKeys();
+
+// Reads and checks the node's own parameters. Throws nscd::SceneError.
+NodeOptions readNodeOptions(const ros::NodeHandle& pnh);
+
+// ~scene (a file) if set, else robot_description, with the simulation settings
+// among the private parameters as overrides. Throws nscd::SceneError.
+nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
+
+// The ~schedule texts bound to the model's actuators. Throws nscd::SceneError.
+std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,
+                                               const std::vector<std::string>& texts,
+                                               const nscd::Model& model);
+
+// Typos in parameter names would otherwise pass silently: one warning each.
+void warnUnknownParams(const ros::NodeHandle& pnh);
+
+}  // namespace nscd_node
