@@ -1,5 +1,5 @@
 // What the node saves by building ~contact_markers and ~contacts only while
-// someone subscribes (issue 6, "markers built only with subscribers"): the cost
+// someone subscribes: the cost
 // of one publication's marker array and contacts message for the C-60 at rest
 // (latched: ~30 contact points, 8 clearance joints), next to the cost of one
 // engine step. Run: nscd_bench_markers (built with the node; Google Benchmark).
@@ -30,7 +30,7 @@ nscd::Simulator& c60() {
 void BM_C60Step(benchmark::State& state) {
   nscd::Simulator& sim = c60();
   for (auto _ : state) sim.step();
-  state.counters["contacts"] = static_cast<double>(sim.contacts().size());
+  state.counters["contacts"] = static_cast<double>(sim.contactPoints().size());
 }
 BENCHMARK(BM_C60Step)->Unit(benchmark::kMicrosecond);
 
@@ -43,7 +43,7 @@ void BM_C60MarkerArray(benchmark::State& state) {
   for (auto _ : state) {
     for (size_t i = 0; i < ecc.size(); ++i)
       ecc[i] = nscd_node::eccentricityView(sim, static_cast<int>(i));
-    nscd_node::buildContactMarkers(sim.contacts(), ecc, style, ros::Time(1.0), msg);
+    nscd_node::buildContactMarkers(sim.contactPoints(), ecc, style, ros::Time(1.0), msg);
     benchmark::DoNotOptimize(msg.markers.data());
   }
   state.counters["markers"] = static_cast<double>(msg.markers.size());
@@ -55,7 +55,7 @@ void BM_C60ContactsMessage(benchmark::State& state) {
   nscd::Simulator& sim = c60();
   nscd_sim::ContactArray msg;
   for (auto _ : state) {
-    const auto& reports = sim.contacts();
+    const auto& reports = sim.contactPoints();
     msg.contacts.resize(reports.size());
     for (size_t i = 0; i < reports.size(); ++i)
       nscd_node::toContactMsg(sim.model(), reports[i], msg.contacts[i]);

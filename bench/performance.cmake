@@ -1,35 +1,35 @@
-# Performance tooling (issue 6): the sweep runner, the stress suite and soak, the
+# Performance tooling: the sweep runner, the stress suite and soak, the
 # work-precision benchmark. Included by CMakeLists.txt; uses only the engine and
-# CLI11. test/test_stress_short.cpp (globbed with the unit tests) links nscd_perf.
+# CLI11. test/test_stress_short.cpp (globbed with the unit tests) links nscd_sweep_core (the cases, grids and runner of src/nscd_sweep).
 
-add_library(nscd_perf STATIC
+add_library(nscd_sweep_core STATIC
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/run_case.cpp
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/sweep_grid.cpp
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/stress_cases.cpp)
-target_include_directories(nscd_perf PUBLIC ${PROJECT_SOURCE_DIR}/src/nscd_sweep)
-target_link_libraries(nscd_perf PUBLIC nscd_engine)
-target_compile_options(nscd_perf PRIVATE -Wall -Wextra)
-set_target_properties(nscd_perf PROPERTIES POSITION_INDEPENDENT_CODE ON)
+target_include_directories(nscd_sweep_core PUBLIC ${PROJECT_SOURCE_DIR}/src/nscd_sweep)
+target_link_libraries(nscd_sweep_core PUBLIC nscd_engine)
+target_compile_options(nscd_sweep_core PRIVATE -Wall -Wextra)
+set_target_properties(nscd_sweep_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 find_package(Threads REQUIRED)
-set(NSCD_PERF_BIN ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+set(NSCD_SWEEP_BIN ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
 add_executable(nscd_sweep ${PROJECT_SOURCE_DIR}/src/nscd_sweep/main.cpp)
 add_executable(nscd_stress ${PROJECT_SOURCE_DIR}/bench/stress.cpp)
 add_executable(nscd_work_precision ${PROJECT_SOURCE_DIR}/bench/work_precision.cpp)
 foreach(tool nscd_sweep nscd_stress nscd_work_precision)
-  target_link_libraries(${tool} nscd_perf CLI11::CLI11 Threads::Threads)
+  target_link_libraries(${tool} nscd_sweep_core CLI11::CLI11 Threads::Threads)
   target_compile_options(${tool} PRIVATE -Wall -Wextra)
   target_compile_definitions(${tool} PRIVATE NSCD_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  set_target_properties(${tool} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${NSCD_PERF_BIN})
+  set_target_properties(${tool} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${NSCD_SWEEP_BIN})
 endforeach()
 install(TARGETS nscd_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 # The unit tests are declared after this file is included: link the short stress
 # test once the whole directory has been read.
-function(nscd_perf_link_tests)
+function(nscd_sweep_link_tests)
   if(TARGET test_stress_short)
-    target_link_libraries(test_stress_short nscd_perf Threads::Threads)
+    target_link_libraries(test_stress_short nscd_sweep_core Threads::Threads)
   endif()
 endfunction()
-cmake_language(DEFER CALL nscd_perf_link_tests)
+cmake_language(DEFER CALL nscd_sweep_link_tests)

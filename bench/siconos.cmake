@@ -1,4 +1,4 @@
-# Optional comparison targets (issue 6, parts 2 and 3); included from CMakeLists.txt.
+# Optional comparison targets; included from CMakeLists.txt.
 #   nscd_siconos_compare  the ball and the planar clearance pendulum in nscd_sim and
 #                         in Siconos, side by side (needs the Siconos kernel);
 #   nscd_fclib            solves FCLib HDF5 friction-contact problems with our solver

@@ -1,4 +1,4 @@
-// nscd_stress: the stress suite (issue 6, part 4) and the long soak.
+// nscd_stress: the stress suite and the long soak.
 //
 //   nscd_stress [--runs N] [--seed S] [--steps K] [--jobs J] [--csv FILE]
 //     N randomised clearance pendulums (stress_cases.hpp), K steps each (default 1000); one CSV
@@ -51,7 +51,7 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace {
 
-using namespace nscd::perf;
+using namespace nscd::sweep;
 
 // Acceptance thresholds (docs/performance.md states them).
 constexpr double kPenetrationRel = 0.01;  // max penetration / radial clearance, with projection

@@ -1,4 +1,4 @@
-// nscd_work_precision: error versus work (issue 6, part 1).
+// nscd_work_precision: error versus work.
 //
 // Each scene runs over time steps h and solver tolerances; each run is compared
 // with a converged reference (h_ref much smaller, tightest tolerance) on a common
@@ -194,7 +194,7 @@ int main(int argc, char** argv) {
   std::string tols_arg = "1e-4,1e-6,1e-8,1e-10";
   std::string csv = "work_precision.csv", source_dir = NSCD_SOURCE_DIR;
   double href = 1e-7, ref_tol = 1e-10;
-  int jobs = nscd::perf::defaultJobs();
+  int jobs = nscd::sweep::defaultJobs();
   std::vector<std::string> file_scenes, commands;
   double file_duration = 0.2, file_sample_dt = 1e-3;
   app.add_option("--scenes", scenes_arg, "built-in scenes to run (comma list; 'none' for none)");
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
     return scenes[work[a].scene].duration / work[a].h > scenes[work[b].scene].duration / work[b].h;
   });
   std::fprintf(stderr, "nscd_work_precision: %zu runs on %d threads\n", work.size(), jobs);
-  nscd::perf::parallelFor(long(work.size()), jobs, [&](long i) {
+  nscd::sweep::parallelFor(long(work.size()), jobs, [&](long i) {
     Job& j = work[order_idx[i]];
     j.trace = runTrace(scenes[j.scene], j.h, j.tol);
   });

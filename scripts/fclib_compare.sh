@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # FCLib problems solved by nscd_sim's FrictionContactSolver and by Siconos's fc3d
-# solvers (issue 6 part 3), at tolerances 1e-4, 1e-8, 1e-10 (Siconos's error measure).
+# solvers, at tolerances 1e-4, 1e-8, 1e-10 (Siconos's error measure).
 #   scripts/fclib_compare.sh [OUT_DIR] [--regenerate] [extra nscd_fclib options]
 # Problems: tools/fclib/problems/*.hdf5 (committed); with --regenerate they are
 # dumped again from the Siconos scenes of scripts/fclib_generate.py (needs

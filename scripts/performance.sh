@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates docs/performance.md and its figures (issue 6) with one command:
+# Regenerates docs/performance.md and its figures with one command:
 # work-precision, stress suite (+ bit-identical rerun), soak (+ massif), a sharded
 # sweep merged and checked against the unsharded one.
 #   scripts/performance.sh            full run (about 10-20 min on 2 cores)

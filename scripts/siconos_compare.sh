@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# nscd_sim and Siconos side by side (issue 6 part 2): the bouncing ball and the
+# nscd_sim and Siconos side by side: the bouncing ball and the
 # planar clearance pendulum, Moreau-Jean and combined projection, h = 1e-3 / 2^k,
 # in one process; then errors, wall-time ratios and trajectory agreement.
 #   scripts/siconos_compare.sh [OUT_DIR] [--quick]

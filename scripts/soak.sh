@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soak (issue 6, part 4): 1e6 steps of one scene with resident memory and heap
+# The soak: 1e6 steps of one scene with resident memory and heap
 # allocations sampled along the way, then a shorter run under valgrind massif.
 # Usage: scripts/soak.sh [STEPS (default 1000000)] [MASSIF_STEPS (default 20000)] [SCENE]
 # Output: $OUT (default build/perf)/soak.json, soak_memory.csv, massif.out, massif.txt

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The long stress suite (issue 6, part 4): N randomised clearance pendulums, run
+# The long stress suite: N randomised clearance pendulums, run
 # twice (once on all cores, once on one thread) and compared byte for byte.
 # Usage: scripts/stress.sh [--runs N] [--seed S] [--steps K]   (default 1000 runs)
 # Output: $OUT (default build/perf)/stress.csv, stress_rerun.csv, stress_summary.json

@@ -21,7 +21,7 @@ Simulator makeSim(const std::string& xml) {
 // Normal force of each radial ring (features 0 and 1) of clearance joint 0.
 void ringForces(const Simulator& sim, double& f0, double& f1) {
   f0 = f1 = 0;
-  for (const ContactReport& c : sim.contacts()) {
+  for (const ContactReport& c : sim.contactPoints()) {
     if (!c.clearance) continue;
     if (c.feature == 0) f0 += c.fn;
     if (c.feature == 1) f1 += c.fn;
@@ -54,7 +54,7 @@ TEST(ClearanceJoint, SleeveRestsOnPin) {
   // Polarisation: the pin (journal) bears on the top of the bore, so every loaded ring
   // contact's normal (from the journal axis to the ring point) points up (+z).
   int loaded = 0;
-  for (const ContactReport& c : sim.contacts()) {
+  for (const ContactReport& c : sim.contactPoints()) {
     if (!c.clearance || c.fn <= 0) continue;
     ++loaded;
     EXPECT_GT(c.normal.z(), 0.999) << c.normal.transpose();
@@ -97,7 +97,7 @@ TEST(ClearanceJoint, AxialForceSharedByThreeBumps) {
   Simulator sim = makeSim(sleeveScene(0.05e-3, 0.0, 0.2, 0.0, 1e-4, push));
   for (int k = 0; k < 3000; ++k) ASSERT_EQ(sim.step(), StepStatus::Ok);
   std::vector<double> bump;
-  for (const ContactReport& c : sim.contacts())
+  for (const ContactReport& c : sim.contactPoints())
     if (c.clearance && c.feature >= 2 && c.fn > 1e-9) bump.push_back(c.fn);
   ASSERT_EQ(bump.size(), 3u);
   for (double f : bump) EXPECT_NEAR(f, 0.5, 0.01 * 0.5);

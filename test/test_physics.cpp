@@ -1,4 +1,4 @@
-// Physics of the engine core against analytic answers (issue: engine core).
+// Physics of the engine core against analytic answers.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -100,7 +100,7 @@ TEST(SimulatorState, ResetClearsEveryOutput) {
   }();
   ASSERT_GE(c7, 0);
   ASSERT_GT(sim.contactNormalForce(c7), 1.0) << "C7 carries the contact pressure at rest";
-  ASSERT_FALSE(sim.contacts().empty());
+  ASSERT_FALSE(sim.contactPoints().empty());
   ASSERT_GT(sim.stats().iterations, 0);
   const int probe = sim.model().findActuator("probe");
   ASSERT_GE(probe, 0);
@@ -112,7 +112,7 @@ TEST(SimulatorState, ResetClearsEveryOutput) {
   EXPECT_EQ(sim.contactTangentialForce(c7), 0.0);
   for (size_t j = 0; j < sim.model().clearance_joints.size(); ++j)
     EXPECT_EQ(sim.clearanceNormalForce(static_cast<int>(j)), 0.0);
-  EXPECT_TRUE(sim.contacts().empty());
+  EXPECT_TRUE(sim.contactPoints().empty());
   EXPECT_EQ(sim.actuatorEffort(probe), 0.0);
   EXPECT_EQ(sim.stats().iterations, 0);
   EXPECT_EQ(sim.stats().active_contacts, 0);
@@ -121,7 +121,7 @@ TEST(SimulatorState, ResetClearsEveryOutput) {
   ASSERT_GT(sim.contactNormalForce(c7), 1.0);
   sim.setState(mid);
   EXPECT_EQ(sim.contactNormalForce(c7), 0.0);
-  EXPECT_TRUE(sim.contacts().empty());
+  EXPECT_TRUE(sim.contactPoints().empty());
 }
 
 // A state of another model, or with a NaN, is refused and leaves the run as it was.

@@ -21,7 +21,7 @@
 
 namespace {
 
-using namespace nscd::perf;
+using namespace nscd::sweep;
 
 constexpr unsigned kSeed = 1;
 constexpr long kSteps = 300;

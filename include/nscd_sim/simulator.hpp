@@ -117,7 +117,7 @@ class Simulator {
   double springForce(int spring) const;
 
   const StepStats& stats() const;
-  const std::vector<ContactReport>& contacts() const;  // active contacts of the last step
+  const std::vector<ContactReport>& contactPoints() const;  // active contact points of the last step
   EnergyReport energy() const;
 
   // World pose of a body frame (centre of mass) and of any URDF link.

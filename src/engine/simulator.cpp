@@ -169,7 +169,7 @@ const StepStats& Simulator::stats() const {
   return out.stats;
 }
 
-const std::vector<ContactReport>& Simulator::contacts() const { return out_->reports; }
+const std::vector<ContactReport>& Simulator::contactPoints() const { return out_->reports; }
 
 EnergyReport Simulator::energy() const {
   EnergyReport e = potentialEnergyOf(model_, state_);

@@ -384,7 +384,7 @@ class SimNode {
         have_tf_stamp_ = true;
       }
       if (want_contacts) {
-        const std::vector<nscd::ContactReport>& reports = sim_->contacts();
+        const std::vector<nscd::ContactReport>& reports = sim_->contactPoints();
         contacts_msg_.header.stamp = stamp;
         contacts_msg_.header.frame_id = model.world_frame;
         contacts_msg_.sim_time = t;
@@ -405,7 +405,7 @@ class SimNode {
       if (want_markers) {
         for (size_t i = 0; i < eccentricity_.size(); ++i)
           eccentricity_[i] = eccentricityView(*sim_, static_cast<int>(i));
-        buildContactMarkers(sim_->contacts(), eccentricity_, opt_.markers, stamp, markers_msg_);
+        buildContactMarkers(sim_->contactPoints(), eccentricity_, opt_.markers, stamp, markers_msg_);
       }
     }
     if (publish_tf) {

@@ -6,7 +6,7 @@
 
 #include "run_case.hpp"
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 // Round-trip formatting: reruns compare byte for byte.
 inline std::string fmt(double x) {
@@ -40,4 +40,4 @@ inline std::string metricsRow(const CaseMetrics& r, bool timing) {
   return s;
 }
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

@@ -28,7 +28,7 @@ int badInput(const std::string& line) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace nscd::perf;
+  using namespace nscd::sweep;
   CLI::App app{
       "nscd_sweep: run a scene over the Cartesian product of parameter values.\n"
       "Parameters: any setting (dt, tolerance, projection, planar, ...) and\n"

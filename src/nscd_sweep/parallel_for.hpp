@@ -8,7 +8,7 @@
 #include <thread>
 #include <vector>
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 inline int defaultJobs() { return std::max(1u, std::thread::hardware_concurrency()); }
 
@@ -28,4 +28,4 @@ void parallelFor(long n, int jobs, F&& f) {
   for (std::thread& t : pool) t.join();
 }
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

@@ -10,7 +10,7 @@
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
   CaseMetrics r;
@@ -119,4 +119,4 @@ void applyParam(Model& model, const std::string& key, const std::string& value) 
   }
 }
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

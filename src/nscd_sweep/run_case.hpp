@@ -7,7 +7,7 @@
 
 #include "nscd_sim/model.hpp"
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 struct CaseOptions {
   double duration = 0.1;          // simulated time, s (rounded to whole steps)
@@ -51,4 +51,4 @@ void applyParam(Model& model, const std::string& key, const std::string& value);
 // The model keys applyParam knows besides the settings keys.
 const std::vector<std::string>& modelParamKeys();
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace nscd::perf {
+namespace nscd::sweep {
 namespace {
 
 // splitmix64: a fixed, documented generator, so case k never depends on the
@@ -116,4 +116,4 @@ StressCase makeStressCase(std::uint64_t seed, long index, const StressRanges& r)
   return c;
 }
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

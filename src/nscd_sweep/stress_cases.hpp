@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 struct StressRanges {
   double radial_lo = 1e-6, radial_hi = 1e-3;   // m, log-uniform
@@ -31,4 +31,4 @@ struct StressCase {
 
 StressCase makeStressCase(std::uint64_t seed, long index, const StressRanges& ranges = {});
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

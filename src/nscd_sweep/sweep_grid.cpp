@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace nscd::perf {
+namespace nscd::sweep {
 namespace {
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -140,4 +140,4 @@ long mergeCsv(const std::vector<std::string>& files, std::ostream& out, std::ost
   return static_cast<long>(rows.size());
 }
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

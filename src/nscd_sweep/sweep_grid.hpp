@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace nscd::perf {
+namespace nscd::sweep {
 
 struct SweepAxis {
   std::string key;
@@ -31,4 +31,4 @@ void parseShard(const std::string& text, int& index, int& count);
 // Throws std::runtime_error on unreadable files or mismatched headers.
 long mergeCsv(const std::vector<std::string>& files, std::ostream& out, std::ostream& log);
 
-}  // namespace nscd::perf
+}  // namespace nscd::sweep

@@ -57,7 +57,7 @@ double inProcessOpening(nscd::Simulator& sim, uint32_t chunk, uint32_t max_steps
       sim.step();
     }
     bool c7 = false;
-    for (const nscd::ContactReport& r : sim.contacts())
+    for (const nscd::ContactReport& r : sim.contactPoints())
       c7 = c7 || (!r.clearance && sim.model().contacts[r.source].name == "C7");
     if (!c7) return sim.state().t;
   }

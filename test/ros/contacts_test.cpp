@@ -38,9 +38,9 @@ void expectSameContacts(const nscd::Simulator& sim, const nscd_sim::ContactArray
   const nscd::Model& model = sim.model();
   EXPECT_EQ(msg.sim_time, sim.state().t);
   EXPECT_EQ(msg.header.frame_id, model.world_frame);
-  ASSERT_EQ(msg.contacts.size(), sim.contacts().size());
+  ASSERT_EQ(msg.contacts.size(), sim.contactPoints().size());
   for (size_t i = 0; i < msg.contacts.size(); ++i) {
-    const nscd::ContactReport& r = sim.contacts()[i];
+    const nscd::ContactReport& r = sim.contactPoints()[i];
     const nscd_sim::Contact& c = msg.contacts[i];
     EXPECT_EQ(c.clearance, r.clearance);
     EXPECT_EQ(c.name, r.clearance ? model.clearance_joints[r.source].name
@@ -84,7 +84,7 @@ TEST(Contacts, ForcesEqualInProcessSimulator) {
   uint64_t steps = 0;
   auto stepUntilContact = [&](uint32_t at_least) {
     uint32_t n = 0;
-    while ((n < at_least || sim.contacts().empty()) && n < 200000) {
+    while ((n < at_least || sim.contactPoints().empty()) && n < 200000) {
       if (sim.step() == nscd::StepStatus::NonFinite) break;
       ++n;
     }
@@ -92,7 +92,7 @@ TEST(Contacts, ForcesEqualInProcessSimulator) {
   };
 
   uint32_t n = stepUntilContact(20);
-  ASSERT_FALSE(sim.contacts().empty()) << "no contact within 200000 steps";
+  ASSERT_FALSE(sim.contactPoints().empty()) << "no contact within 200000 steps";
   steps += n;
   auto msg = stepNode(n, steps);
   ASSERT_TRUE(msg);
@@ -109,7 +109,7 @@ TEST(Contacts, ForcesEqualInProcessSimulator) {
   }
 
   n = stepUntilContact(0);
-  ASSERT_FALSE(sim.contacts().empty());
+  ASSERT_FALSE(sim.contactPoints().empty());
   if (n > 0) {
     steps += n;
     msg = stepNode(n, steps);
