@@ -92,12 +92,20 @@ def rpy_of(R):
     return r, p, y
 
 
+def snap(x):
+    """x, with round-off around zero (|x| < 1e-15, and -0) written as 0: the last bits
+    of a sum that should cancel differ between machines (numpy, libm), and the
+    generated URDFs must not."""
+    return 0.0 if abs(x) < 1e-15 else x
+
+
 def fmt(v, scale=MM):
-    return ' '.join('%.9g' % (x * scale) for x in v)
+    return ' '.join('%.9g' % snap(x * scale) for x in v)
 
 
 def fmt_rpy(R):
-    return ' '.join('%.12g' % a for a in rpy_of(R))
+    R = np.vectorize(snap)(np.asarray(R, dtype=float))  # no sign flip of atan2 at +-pi
+    return ' '.join('%.12g' % snap(a) for a in rpy_of(R))
 
 
 # --------------------------------------------------------------------------- joints
@@ -440,7 +448,7 @@ MATERIALS = {'case': (0.55, 0.55, 0.6, 0.35), 'copper': (0.85, 0.5, 0.2, 1), 'ha
 
 def w_visual(w, kind, xyz, rpy, size, mat, local=True):
     w('    <visual>')
-    w('      <origin xyz="%s" rpy="%s"/>' % (fmt(xyz), ' '.join('%.9g' % a for a in rpy)))
+    w('      <origin xyz="%s" rpy="%s"/>' % (fmt(xyz), ' '.join('%.9g' % snap(a) for a in rpy)))
     if kind == 'box':
         w('      <geometry><box size="%s"/></geometry>' % fmt(size))
     else:
@@ -511,7 +519,9 @@ def body_visuals(name):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--out')
+    ap.add_argument('--out', help='write one scene (the options below) to this file')
+    ap.add_argument('--out-dir', help='write the shipped scenes (c60.urdf, c60_bench.urdf) here '
+                    'instead of the repository\'s urdf/')
     ap.add_argument('--bench', action='store_true')
     ap.add_argument('--clearance-scale', type=float, default=1.0)
     ap.add_argument('--friction-scale', type=float, default=1.0)
@@ -531,8 +541,9 @@ def main():
         with open(a.out, 'w') as f:
             f.write(text)
         return
+    out_dir = a.out_dir or os.path.join(repo, 'urdf')
     for bench, fn in [(False, 'c60.urdf'), (True, 'c60_bench.urdf')]:
-        with open(os.path.join(repo, 'urdf', fn), 'w') as f:
+        with open(os.path.join(out_dir, fn), 'w') as f:
             f.write(build(bench))
 
 
