@@ -1,4 +1,4 @@
-// Scene file (URDF + <nscd> annotations) -> Model. See shared spec scene-format.md.
+// Scene file (URDF + <nscd> annotations) -> Model. The format: docs/scene-format.md.
 #pragma once
 
 #include <stdexcept>
@@ -42,5 +42,19 @@ std::vector<SettingOverride> readSettingsYaml(const std::string& path);
 
 // Names of the setting keys, for --help and error messages.
 const std::vector<std::string>& settingKeys();
+
+// What the loader accepts, element by element: the single table its checks use
+// (so docs/scene-format.md can be checked against it). `variant` names the
+// type attribute's value for elements whose attributes depend on it (a
+// <shape type="box">, a <spring type="torsion">, ...); `parent` the element it
+// belongs in. <simulation> takes every setting key as an attribute.
+struct SceneElementVocabulary {
+  std::string element;
+  std::string variant;
+  std::string parent;
+  std::vector<std::string> attributes;
+  std::vector<std::string> children;
+};
+const std::vector<SceneElementVocabulary>& sceneVocabulary();
 
 }  // namespace nscd

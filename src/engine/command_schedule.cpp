@@ -7,6 +7,7 @@
 
 #include "nscd_sim/model.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "number_text.hpp"
 
 namespace nscd {
 
@@ -26,10 +27,9 @@ double CommandSchedule::value(double t) const {
 }
 
 namespace {
-double parseNumber(const std::string& s, const std::string& whole) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v))
+double finiteNumber(const std::string& s, const std::string& whole) {
+  double v = 0;
+  if (!parseNumber(s, v) || !std::isfinite(v))
     throw std::invalid_argument("schedule '" + whole + "': '" + s + "' is not a finite number");
   return v;
 }
@@ -51,8 +51,8 @@ CommandSchedule parseCommandSchedule(const std::string& text) {
     const size_t colon = item.find(':');
     if (colon == std::string::npos)
       throw std::invalid_argument("schedule '" + text + "': '" + item + "' is not time:value");
-    const double t = parseNumber(item.substr(0, colon), text);
-    const double v = parseNumber(item.substr(colon + 1), text);
+    const double t = finiteNumber(item.substr(0, colon), text);
+    const double v = finiteNumber(item.substr(colon + 1), text);
     if (!sch.points.empty() && t < sch.points.back().first)
       throw std::invalid_argument("schedule '" + text + "': times must not decrease");
     sch.points.emplace_back(t, v);

@@ -1,10 +1,11 @@
-// Text helpers shared by the scene loader and the settings parser. Internal to
-// the engine.
+// Text helpers shared by the scene loader, the settings and the command
+// schedules. Internal to the engine.
 #pragma once
 
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <system_error>
 
@@ -28,6 +29,13 @@ inline bool parseNumber(const std::string& in, double& out) {
   if (r.ec == std::errc::result_out_of_range) out = HUGE_VAL;
   else if (r.ec != std::errc()) return false;
   return true;
+}
+
+// x as the shortest %g-like text, for messages ("1e-05", "0.5").
+inline std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
 }
 
 }  // namespace nscd

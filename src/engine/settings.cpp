@@ -5,13 +5,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include "nscd_sim/scene_loader.hpp"
 #include "number_text.hpp"
+#include "text_file.hpp"
 
 namespace nscd {
 namespace {
@@ -51,18 +50,101 @@ bool boolValue(const std::string& key, const std::string& v) {
   throw Bad{"setting '" + key + "': '" + v + "' is not a boolean (true or false)"};
 }
 
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 void requireIn(const std::string& key, double x, double lo, bool lo_open, double hi,
                bool hi_open) {
   const bool ok = (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
   if (!ok)
     throw Bad{"setting '" + key + "' must be in " + (lo_open ? "(" : "[") + num(lo) + ", " +
               num(hi) + (hi_open ? ")" : "]") + ", got " + num(x)};
+}
+
+// Every setting: its key and how a value is read into Settings. The one list
+// of keys (settingKeys(), the scene vocabulary of <simulation>, the docs test).
+struct SettingRule {
+  const char* key;
+  void (*read)(Settings& st, const std::string& key, const std::string& v);
+};
+
+const std::vector<SettingRule>& settingRules() {
+  static const std::vector<SettingRule> rules = {
+      {"dt",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, true, 0.1, false);
+         st.dt = x;
+       }},
+      {"theta",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0.5, false, 1, false);
+         st.theta = x;
+       }},
+      {"gravity",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         // "0 0 -9.81", also "0, 0, -9.81" or "[0, 0, -9.81]" (ROS parameter strings).
+         std::string s = v;
+         for (char& c : s)
+           if (c == ',' || c == '[' || c == ']') c = ' ';
+         std::istringstream in(s);
+         std::vector<std::string> parts;
+         for (std::string w; in >> w;) parts.push_back(w);
+         if (parts.size() != 3)
+           throw Bad{"setting 'gravity': expected 3 numbers \"gx gy gz\", got '" + v + "'"};
+         Vec3 g;
+         for (int i = 0; i < 3; ++i) g[i] = finiteValue(key, parts[i]);
+         st.gravity = g;
+       }},
+      {"tolerance",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, true, 1, true);
+         st.tolerance = x;
+       }},
+      {"max_iterations",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         st.max_iterations = intValue(key, v, 1, 10000000);
+       }},
+      {"projection",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         st.projection = boolValue(key, v);
+       }},
+      {"projection_tolerance",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         if (!(x > 0)) throw Bad{"setting 'projection_tolerance' must be > 0, got " + num(x)};
+         st.projection_tolerance = x;
+       }},
+      {"projection_max_iterations",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         st.projection_max_iterations = intValue(key, v, 0, 10000000);
+       }},
+      {"activation_gamma",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, false, 1, false);
+         st.activation_gamma = x;
+       }},
+      {"activation_margin",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         if (!(x >= 0)) throw Bad{"setting 'activation_margin' must be >= 0, got " + num(x)};
+         st.activation_margin = x;
+       }},
+      {"contact_prediction",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, false, 1, false);
+         st.contact_prediction = x;
+       }},
+      {"planar",
+       [](Settings& st, const std::string&, const std::string& v) {
+         const std::string s = lower(trim(v));
+         if (s == "false" || s == "none" || s == "0" || s == "no") st.planar = PlanarMode::None;
+         else if (s == "true" || s == "xy" || s == "1" || s == "yes") st.planar = PlanarMode::XY;
+         else throw Bad{"setting 'planar': '" + v + "' is not one of false, none, true, xy"};
+       }},
+  };
+  return rules;
 }
 
 std::string knownKeys() {
@@ -73,61 +155,9 @@ std::string knownKeys() {
 
 void apply(Settings& st, const std::string& key, const std::string& v) {
   if (trim(v).empty()) throw Bad{"setting '" + key + "' has no value"};
-  if (key == "dt") {
-    const double x = finiteValue(key, v);
-    requireIn(key, x, 0, true, 0.1, false);
-    st.dt = x;
-  } else if (key == "theta") {
-    const double x = finiteValue(key, v);
-    requireIn(key, x, 0.5, false, 1, false);
-    st.theta = x;
-  } else if (key == "gravity") {
-    // "0 0 -9.81", also "0, 0, -9.81" or "[0, 0, -9.81]" (ROS parameter strings).
-    std::string s = v;
-    for (char& c : s)
-      if (c == ',' || c == '[' || c == ']') c = ' ';
-    std::istringstream in(s);
-    std::vector<std::string> parts;
-    for (std::string w; in >> w;) parts.push_back(w);
-    if (parts.size() != 3)
-      throw Bad{"setting 'gravity': expected 3 numbers \"gx gy gz\", got '" + v + "'"};
-    Vec3 g;
-    for (int i = 0; i < 3; ++i) g[i] = finiteValue(key, parts[i]);
-    st.gravity = g;
-  } else if (key == "tolerance") {
-    const double x = finiteValue(key, v);
-    requireIn(key, x, 0, true, 1, true);
-    st.tolerance = x;
-  } else if (key == "max_iterations") {
-    st.max_iterations = intValue(key, v, 1, 10000000);
-  } else if (key == "projection") {
-    st.projection = boolValue(key, v);
-  } else if (key == "projection_tolerance") {
-    const double x = finiteValue(key, v);
-    if (!(x > 0)) throw Bad{"setting 'projection_tolerance' must be > 0, got " + num(x)};
-    st.projection_tolerance = x;
-  } else if (key == "projection_max_iterations") {
-    st.projection_max_iterations = intValue(key, v, 0, 10000000);
-  } else if (key == "activation_gamma") {
-    const double x = finiteValue(key, v);
-    requireIn(key, x, 0, false, 1, false);
-    st.activation_gamma = x;
-  } else if (key == "activation_margin") {
-    const double x = finiteValue(key, v);
-    if (!(x >= 0)) throw Bad{"setting 'activation_margin' must be >= 0, got " + num(x)};
-    st.activation_margin = x;
-  } else if (key == "contact_prediction") {
-    const double x = finiteValue(key, v);
-    requireIn(key, x, 0, false, 1, false);
-    st.contact_prediction = x;
-  } else if (key == "planar") {
-    const std::string s = lower(trim(v));
-    if (s == "false" || s == "none" || s == "0" || s == "no") st.planar = PlanarMode::None;
-    else if (s == "true" || s == "xy" || s == "1" || s == "yes") st.planar = PlanarMode::XY;
-    else throw Bad{"setting 'planar': '" + v + "' is not one of false, none, true, xy"};
-  } else {
-    throw Bad{"unknown setting '" + key + "' (known: " + knownKeys() + ")"};
-  }
+  for (const SettingRule& r : settingRules())
+    if (key == r.key) return r.read(st, key, v);
+  throw Bad{"unknown setting '" + key + "' (known: " + knownKeys() + ")"};
 }
 
 std::string joinScalars(const YAML::Node& seq, const std::string& where, const std::string& key) {
@@ -143,11 +173,11 @@ std::string joinScalars(const YAML::Node& seq, const std::string& where, const s
 }  // namespace
 
 const std::vector<std::string>& settingKeys() {
-  static const std::vector<std::string> keys = {
-      "dt",         "theta",      "gravity",
-      "tolerance",  "max_iterations",  "projection",
-      "projection_tolerance", "projection_max_iterations", "activation_gamma",
-      "activation_margin", "contact_prediction", "planar"};
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k;
+    for (const SettingRule& r : settingRules()) k.push_back(r.key);
+    return k;
+  }();
   return keys;
 }
 
@@ -160,17 +190,10 @@ void applySetting(Settings& settings, const SettingOverride& o) {
 }
 
 std::vector<SettingOverride> readSettingsYaml(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw SceneError(path + ": cannot read file (a directory)");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw SceneError(path + ": cannot read file");
-  std::stringstream buf;
-  buf << f.rdbuf();
-  if (f.bad()) throw SceneError(path + ": cannot read file");
-
+  const std::string text = readTextFile(path);
   YAML::Node root;
   try {
-    root = YAML::Load(buf.str());
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     const std::string line = e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1);
     throw SceneError(path + line + ": YAML error: " + e.msg);

@@ -1,0 +1,79 @@
+// <actuator>: a PD position drive, a prescribed motion, or a force; its command
+// comes from a topic or a schedule.
+#include "scene_build.hpp"
+
+namespace nscd {
+
+namespace {
+
+// ---------------------------------------------------------------- actuators
+int actuatedBody(const SceneBuild& sb, const XMLElement* e, const std::string& what) {
+  const int l = sb.findLink(e, reqString(sb.c, e, "link"));
+  if (sb.links[l].body == kGround)
+    sb.c.fail(e->GetLineNum(), what + ": link " + squote(sb.links[l].name) + " is ground and cannot be actuated");
+  return l;
+}
+
+}  // namespace
+
+void readActuator(SceneBuild& sb, const XMLElement* e) {
+  checkChildren(sb.c, e, vocabularyOf("actuator", "position").children);
+  Actuator a;
+  a.name = reqString(sb.c, e, "name");
+  for (const Actuator& o : sb.m.actuators)
+    if (o.name == a.name)
+      sb.c.fail(e->GetLineNum(), "duplicate actuator name " + squote(a.name) + " (first at line " + std::to_string(o.src.line) + ")");
+  const std::string type = reqString(sb.c, e, "type");
+  const std::string what = "actuator " + squote(a.name);
+  if (type == "position") {
+    checkAttributes(sb.c, e, vocabularyOf("actuator", "position").attributes);
+    a.type = ActuatorType::Position;
+    if (!has(e, "joint")) sb.c.fail(e->GetLineNum(), what + " (position) needs attribute 'joint'");
+    a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
+    if (sb.m.joints[a.joint].type == JointType::Fixed)
+      sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
+    a.kp = optNumber(sb.c, e, "kp", 0);
+    requireRange(sb.c, e, "kp", a.kp, 0, false, kInf, false);
+    a.kd = optNumber(sb.c, e, "kd", 0);
+    requireRange(sb.c, e, "kd", a.kd, 0, false, kInf, false);
+    a.max_effort = optNumber(sb.c, e, "max_effort", 0);
+    requireRange(sb.c, e, "max_effort", a.max_effort, 0, false, kInf, false);
+    a.initial_command = sb.initialPosition(a.joint);
+  } else if (type == "prescribed") {
+    checkAttributes(sb.c, e, vocabularyOf("actuator", "prescribed").attributes);
+    a.type = ActuatorType::Prescribed;
+    if (has(e, "link") && has(e, "joint")) sb.c.fail(e->GetLineNum(), what + ": give either 'link' or 'joint', not both");
+    if (has(e, "link")) {
+      const int l = actuatedBody(sb, e, what);
+      a.body = sb.links[l].body;
+      const Vec3 ax = reqVec3(sb.c, e, "axis");
+      if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
+      a.axis = sb.links[l].world.rotate(ax).normalized();  // link frame -> world, at the initial pose
+    } else if (has(e, "joint")) {
+      if (has(e, "axis")) sb.c.fail(e->GetLineNum(), what + ": 'axis' applies to link= only (a joint moves about its own axis)");
+      a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
+      if (sb.m.joints[a.joint].type == JointType::Fixed)
+        sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
+      a.initial_command = sb.initialPosition(a.joint);
+    } else {
+      sb.c.fail(e->GetLineNum(), what + " (prescribed) needs attribute 'link' or 'joint'");
+    }
+  } else if (type == "force") {
+    checkAttributes(sb.c, e, vocabularyOf("actuator", "force").attributes);
+    a.type = ActuatorType::Force;
+    if (!has(e, "link")) sb.c.fail(e->GetLineNum(), what + " (force) needs attribute 'link'");
+    const int l = actuatedBody(sb, e, what);
+    a.body = sb.links[l].body;
+    a.point = sb.links[l].in_body.apply(optVec3(sb.c, e, "xyz", Vec3::Zero()));
+    const Vec3 d = reqVec3(sb.c, e, "direction");
+    if (!(d.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": direction must be non-zero");
+    a.direction = sb.links[l].in_body.rotate(d).normalized();
+  } else {
+    sb.c.fail(e->GetLineNum(), what + ": unknown actuator type " + squote(type) + " (position, prescribed, force)");
+  }
+  a.initial_command = optNumber(sb.c, e, "command", a.initial_command);
+  a.src = SourceRef{sb.c.file, e->GetLineNum()};
+  sb.m.actuators.push_back(a);
+}
+
+}  // namespace nscd
