@@ -695,7 +695,12 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_DOUBLE_EQ(s.contact_prediction, 0.0);
   set("contact_prediction", "0.5");
   EXPECT_DOUBLE_EQ(s.contact_prediction, 0.5);
-  EXPECT_EQ(settingKeys().size(), 12u);
+  EXPECT_EQ(s.joint_work, JointWork::None);
+  set("joint_work", "moreau");
+  EXPECT_EQ(s.joint_work, JointWork::Moreau);
+  set("joint_work", "none");
+  EXPECT_EQ(s.joint_work, JointWork::None);
+  EXPECT_EQ(settingKeys().size(), 13u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {
@@ -706,7 +711,7 @@ TEST(Settings, ApplySettingRefusesBadValues) {
       {"max_iterations", "2.5"}, {"max_iterations", "20000000"}, {"projection", "maybe"},
       {"projection_tolerance", "0"}, {"projection_max_iterations", "-1"},
       {"activation_gamma", "1.5"}, {"contact_prediction", "-0.1"}, {"contact_prediction", "1.5"},
-      {"contact_prediction", "nan"}, {"gravity", "0 0"}, {"gravity", "0 0 inf"}, {"planar", "xz"},
+      {"contact_prediction", "nan"}, {"gravity", "0 0"}, {"gravity", "0 0 inf"}, {"planar", "xz"}, {"joint_work", "some"},
       {"no_such_key", "1"}};
   for (const auto& b : bad) {
     Settings s;

@@ -142,6 +142,15 @@ struct Actuator {
 
 enum class PlanarMode { None, XY };
 
+// What the rows of ideal joints constrain in a step.
+// None: the theta-average velocity theta v_{k+1} + (1 - theta) v_k, the velocity
+//   the positions move with: the joint impulses do no work over the step, so a
+//   mechanism turning on ideal joints keeps its energy (exactly, for theta = 1/2
+//   and no other force), and its joints do not drift apart at first order.
+// Moreau: v_{k+1}, as Moreau-Jean's scheme. A joint whose direction turns by
+//   omega h in a step then takes (omega h)^2 of the kinetic energy every step.
+enum class JointWork { None, Moreau };
+
 struct Settings {
   double dt = 1e-4;
   double theta = 0.5;
@@ -163,6 +172,7 @@ struct Settings {
   // end of the step predicted by v_k, as Siconos's time stepping does; 0: at q_k.
   // Gaps and activation are always those of q_k.
   double contact_prediction = 1;
+  JointWork joint_work = JointWork::None;
   PlanarMode planar = PlanarMode::None;
 };
 

@@ -36,6 +36,10 @@ struct State {
   // Per clearance joint, 2 ring angles (rad) where its rings last touched: the
   // start of the next ring-gap search (NaN: none yet).
   std::vector<double> ring_hint;
+  // Per joint, its coordinate followed continuously from the start: a revolute
+  // joint's angle is unwrapped across steps (it passes +-pi as it turns, 10 turns
+  // are 20 pi), a prismatic joint's position. Drives, springs and reports use it.
+  std::vector<double> joint_angle;
 };
 
 // One active contact point after a step (what the node and the CSV report).
@@ -131,6 +135,9 @@ class Simulator {
   double clearanceEccentricity(int cj) const;
   double clearanceEccentricityAngle(int cj) const;
   double clearanceNormalForce(int cj) const;
+  // Joint coordinate, continuous across turns (State::joint_angle): rad, or m
+  // for a prismatic joint.
+  double jointPosition(int joint) const;
   // Per named contact: smallest gap (m), summed normal force and |summed tangential force|.
   double contactGap(int pair) const;
   double contactNormalForce(int pair) const;

@@ -28,12 +28,15 @@ struct Element {
   bool is_spring;
   int index;
   int body_a, body_b;
+  int joint;  // torsion spring or PD actuator: its joint; else -1
 };
 
 // Generalized forces of an element on its two bodies. `report` gets the spring
-// force (tension / torque on b) or the actuator effort. commands: unused for springs.
+// force (tension / torque on b) or the actuator effort. commands: unused for
+// springs; angle_ref: the joint's continuous angle (torsion springs, PD actuators).
 void elementForce(const Model& m, const Element& el, const BodyState& a, const BodyState& b,
-                  const std::vector<double>& commands, Vec6& fa, Vec6& fb, double& report) {
+                  const std::vector<double>& commands, double angle_ref, Vec6& fa, Vec6& fb,
+                  double& report) {
   fa.setZero();
   fb.setZero();
   if (el.is_spring) {
@@ -54,7 +57,7 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
       report = f;
     } else {
       const Joint& j = m.joints[sp.joint];
-      const double ang = jointCoordinate(j, a, b);
+      const double ang = jointCoordinateNear(j, a, b, angle_ref);
       const double rate = jointRate(j, a, b);
       const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       const Vec3 axis = a.q * j.axis_a;
@@ -66,7 +69,7 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
   }
   const Actuator& ac = m.actuators[el.index];
   const Joint& j = m.joints[ac.joint];
-  const double pos = jointCoordinate(j, a, b);
+  const double pos = jointCoordinateNear(j, a, b, angle_ref);
   const double vel = jointRate(j, a, b);
   double effort = ac.kp * (commands[el.index] - pos) - ac.kd * vel;
   if (ac.max_effort > 0) effort = std::max(-ac.max_effort, std::min(ac.max_effort, effort));
@@ -107,8 +110,9 @@ double springForceAt(const Model& m, const State& s, int spring) {
   Vec6 fa, fb;
   double report = 0;
   static const std::vector<double> kNoCommands;
-  elementForce(m, Element{true, spring, sp.body_a, sp.body_b}, bodyOrGround(s, sp.body_a),
-               bodyOrGround(s, sp.body_b), kNoCommands, fa, fb, report);
+  const double ref = sp.type == SpringType::Torsion ? s.joint_angle[sp.joint] : 0.0;
+  elementForce(m, Element{true, spring, sp.body_a, sp.body_b, sp.joint}, bodyOrGround(s, sp.body_a),
+               bodyOrGround(s, sp.body_b), kNoCommands, ref, fa, fb, report);
   return report;
 }
 
@@ -139,7 +143,8 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     const BodyState& b0 = bodyOrGround(s, el.body_b);
     Vec6 fa, fb;
     double report = 0;
-    elementForce(m, el, a0, b0, commands, fa, fb, report);
+    const double ref = el.joint >= 0 ? s.joint_angle[el.joint] : 0.0;
+    elementForce(m, el, a0, b0, commands, ref, fa, fb, report);
     if (!el.is_spring) out.actuator_effort[el.index] = report;
     if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
     if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
@@ -158,8 +163,8 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
           perturb(side == 0 ? am : bm, dof, -eps, pos);
           Vec6 fap, fbp, fam, fbm;
           double r;
-          elementForce(m, el, ap, bp, commands, fap, fbp, r);
-          elementForce(m, el, am, bm, commands, fam, fbm, r);
+          elementForce(m, el, ap, bp, commands, ref, fap, fbp, r);
+          elementForce(m, el, am, bm, commands, ref, fam, fbm, r);
           Eigen::MatrixXd& D = pos ? ws.K : ws.C;
           const int col = 6 * bj + dof;
           if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += (fap - fam) / (2 * eps);
@@ -169,12 +174,13 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     }
   };
   for (size_t i = 0; i < m.springs.size(); ++i)
-    element(Element{true, static_cast<int>(i), m.springs[i].body_a, m.springs[i].body_b});
+    element(Element{true, static_cast<int>(i), m.springs[i].body_a, m.springs[i].body_b,
+                    m.springs[i].type == SpringType::Torsion ? m.springs[i].joint : -1});
   for (size_t i = 0; i < m.actuators.size(); ++i) {
     const Actuator& ac = m.actuators[i];
     if (ac.type != ActuatorType::Position) continue;
     const Joint& j = m.joints[ac.joint];
-    element(Element{false, static_cast<int>(i), j.body_a, j.body_b});
+    element(Element{false, static_cast<int>(i), j.body_a, j.body_b, ac.joint});
   }
   if (with_jacobians) {
     // Only the symmetric part enters the iteration matrix (it must stay SPD).

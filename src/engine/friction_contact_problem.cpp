@@ -1,5 +1,6 @@
 // Stage 4a: the friction-contact problem of the step's rows. Local free
-// velocities b = G v_free; bilateral rows aim at their rheonomic targets; the
+// velocities b = G v_free; bilateral rows aim at their rheonomic targets, ideal
+// joints at a workless theta-average velocity (Settings::joint_work); the
 // Newton impact law shifts an approaching contact's normal by e U_N,k; impulses
 // start from the last step's (warm start, carried by the State).
 #include <algorithm>
@@ -15,6 +16,9 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
   ws.b.head(r).noalias() = G * ws.vfree;
   ws.problem.clear();
   st.active_contacts = 0;
+  const double theta = m.settings.theta;
+  const double joint_average =
+      m.settings.joint_work == JointWork::None ? (1 - theta) / theta : 0.0;
   for (const ConstraintBlock& blk : ws.blocks) {
     ProblemBlock pb;
     pb.kind = blk.kind;
@@ -26,6 +30,10 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
     const bool warm = blk.row >= kept;
     if (blk.kind == BlockKind::Bilateral) {
       for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
+      // Workless joints: theta G v_{k+1} + (1 - theta) G v_k = 0 (see JointWork).
+      if (blk.joint >= 0 && joint_average > 0)
+        for (int k = 0; k < blk.size; ++k)
+          ws.b[blk.row + k] += joint_average * G.row(blk.row + k).dot(ws.vk);
       const int base = blk.joint >= 0 ? ws.facts.joint_row_base[blk.joint]
                                       : ws.facts.actuator_row_base[blk.actuator];
       if (warm)

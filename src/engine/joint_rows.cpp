@@ -3,6 +3,8 @@
 // the model.
 #include "joint_rows.hpp"
 
+#include <cmath>
+
 namespace nscd {
 
 Frame3 frameAround(const Vec3& axis) {
@@ -78,9 +80,22 @@ double jointRate(const Joint& j, const BodyState& a, const BodyState& b) {
   return j.type == JointType::Prismatic ? prismaticRate(j, a, b) : revoluteRate(j, a, b);
 }
 
+double jointCoordinateNear(const Joint& j, const BodyState& a, const BodyState& b,
+                           double reference) {
+  const double raw = jointCoordinate(j, a, b);
+  if (j.type == JointType::Prismatic) return raw;
+  const double turns = std::round((reference - raw) / (2 * M_PI));
+  return turns == 0 ? raw : raw + 2 * M_PI * turns;
+}
+
 double jointPosition(const Model& m, const State& s, int joint) {
   const Joint& j = m.joints[joint];
-  return jointCoordinate(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b));
+  return jointCoordinateNear(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b),
+                             s.joint_angle[joint]);
+}
+
+void trackJointAngles(const Model& m, State& s) {
+  for (size_t j = 0; j < m.joints.size(); ++j) s.joint_angle[j] = jointPosition(m, s, static_cast<int>(j));
 }
 
 double jointVelocity(const Model& m, const State& s, int joint) {

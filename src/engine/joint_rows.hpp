@@ -64,8 +64,12 @@ double revoluteAngle(const Joint& j, const BodyState& a, const BodyState& b);
 double revoluteRate(const Joint& j, const BodyState& a, const BodyState& b);
 double prismaticPosition(const Joint& j, const BodyState& a, const BodyState& b);
 double prismaticRate(const Joint& j, const BodyState& a, const BodyState& b);
-// The coordinate of any joint kind (prismatic: m; else rad) and its rate.
+// The coordinate of any joint kind (prismatic: m; else rad in (-pi, pi]) and its rate.
 double jointCoordinate(const Joint& j, const BodyState& a, const BodyState& b);
 double jointRate(const Joint& j, const BodyState& a, const BodyState& b);
+// The coordinate, continuous: a revolute angle plus the whole turns that bring it
+// within pi of `reference` (the joint's continuous angle a moment ago).
+double jointCoordinateNear(const Joint& j, const BodyState& a, const BodyState& b,
+                           double reference);
 
 }  // namespace nscd

@@ -136,6 +136,13 @@ const std::vector<SettingRule>& settingRules() {
          requireIn(key, x, 0, false, 1, false);
          st.contact_prediction = x;
        }},
+      {"joint_work",
+       [](Settings& st, const std::string&, const std::string& v) {
+         const std::string w = lower(trim(v));
+         if (w == "none") st.joint_work = JointWork::None;
+         else if (w == "moreau") st.joint_work = JointWork::Moreau;
+         else throw Bad{"setting 'joint_work': '" + v + "' is not one of none, moreau"};
+       }},
       {"planar",
        [](Settings& st, const std::string&, const std::string& v) {
          const std::string s = lower(trim(v));

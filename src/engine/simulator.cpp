@@ -16,8 +16,6 @@ namespace {
 
 // Re-solves per step for contacts closed by the answer (activateLateContacts).
 constexpr int kLateActivationRounds = 3;
-// Passes of the assembly projection before the first step.
-constexpr int kAssemblyPasses = 200;
 
 }  // namespace
 
@@ -29,16 +27,7 @@ Simulator::Simulator(Model model)
   initStepWorkspace(m, *query_ws_);
   initStepOutputs(m, *out_);
   state_ = initialState(m, *ws_);
-  // Assembly: remove loop-closure mismatch and initial penetrations.
-  double violation = 0;
-  const double tol = m.settings.projection_tolerance;
-  StepStats assembly;
-  projectPositions(m, state_, *ws_, kAssemblyPasses, tol, violation, assembly);
-  if (violation > tol)
-    throw std::runtime_error(m.source_file + ": assembly failed: constraint violation " +
-                             std::to_string(violation) + " after " +
-                             std::to_string(kAssemblyPasses) + " projection passes");
-  // Initial velocities are left as given: the first step enforces H v = 0.
+  assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
 }
 
@@ -55,7 +44,7 @@ void Simulator::setState(const State& s) {
       s.prev_commands.size() != ref.prev_commands.size() || s.warm.size() != ref.warm.size() ||
       s.warm_valid.size() != ref.warm_valid.size() ||
       s.warm_bilateral.size() != ref.warm_bilateral.size() ||
-      s.ring_hint.size() != ref.ring_hint.size())
+      s.ring_hint.size() != ref.ring_hint.size() || s.joint_angle.size() != ref.joint_angle.size())
     throw std::invalid_argument("setState: the state was not made for this model (sizes differ)");
   bool finite = std::isfinite(s.t);
   for (const BodyState& b : s.bodies)
@@ -63,6 +52,7 @@ void Simulator::setState(const State& s) {
              b.w.allFinite();
   for (double c : s.commands) finite = finite && std::isfinite(c);
   for (double c : s.prev_commands) finite = finite && std::isfinite(c);
+  for (double a : s.joint_angle) finite = finite && std::isfinite(a);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
   state_ = s;
   clearStepOutputs(*out_);
@@ -150,6 +140,8 @@ StepStatus Simulator::step() {
   ws.blocks.clear();
   ws.rows = 0;
 
+  trackJointAngles(m, state_);
+
   bool finite = ws.vnew.allFinite();
   for (const BodyState& b : state_.bodies)
     finite = finite && b.x.allFinite() && b.q.coeffs().allFinite();
@@ -204,6 +196,8 @@ double Simulator::clearanceNormalForce(int cj) const { return out_->cj_fn[cj]; }
 double Simulator::contactGap(int pair) const {
   return contactPairGap(state_, model_.contacts[pair]);
 }
+
+double Simulator::jointPosition(int joint) const { return nscd::jointPosition(model_, state_, joint); }
 
 double Simulator::contactNormalForce(int pair) const { return out_->pair_fn[pair]; }
 double Simulator::contactTangentialForce(int pair) const { return out_->pair_ft[pair]; }

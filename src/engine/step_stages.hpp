@@ -17,6 +17,10 @@ void initStepOutputs(const Model& m, StepOutputs& out);
 void clearStepOutputs(StepOutputs& out);
 // The state at the initial poses and velocities of the model (before assembly).
 State initialState(const Model& m, const StepWorkspace& ws);
+// Assembly (assembly.cpp): positions projected onto the constraints, then the
+// velocities onto the ideal joints' G v = 0. Throws std::runtime_error naming
+// the scene if the positions cannot be assembled.
+void assembleState(const Model& m, State& s, StepWorkspace& ws);
 
 // ---- 1. forces (forces.cpp): gravity, force actuators, springs and PD actuators
 // at the state; with jacobians, their symmetrised derivatives K = dF/dq and C =
@@ -43,8 +47,12 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // rates[i]: commanded rate of actuator i (prescribed).
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws);
+// Continuous joint coordinate at the state (State::joint_angle as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);
+// Follows every joint's continuous coordinate to the state's positions (after a
+// step; at assembly from 0).
+void trackJointAngles(const Model& m, State& s);
 
 // ---- 2b. contact candidates (contact_candidates.cpp)
 // Largest turn of a contact normal between q_k and the predicted configuration

@@ -12,6 +12,8 @@ CsvWriter::CsvWriter(const std::string& path, const Simulator& sim) {
   for (const Body& b : m.bodies)
     for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"})
       std::fprintf(f_, ",%s.%s", b.name.c_str(), c);
+  for (const Joint& j : m.joints)
+    if (j.type != JointType::Fixed) std::fprintf(f_, ",%s.q", j.name.c_str());
   for (const ClearanceJoint& cj : m.clearance_joints)
     std::fprintf(f_, ",%s.ecc,%s.ecc_angle,%s.fn", cj.name.c_str(), cj.name.c_str(), cj.name.c_str());
   for (const ContactPair& c : m.contacts)
@@ -36,6 +38,8 @@ void CsvWriter::writeRow(const Simulator& sim) {
                  b.x.x(), b.x.y(), b.x.z(), b.q.w(), b.q.x(), b.q.y(), b.q.z(), b.v.x(), b.v.y(),
                  b.v.z(), w.x(), w.y(), w.z());
   }
+  for (size_t j = 0; j < m.joints.size(); ++j)
+    if (m.joints[j].type != JointType::Fixed) std::fprintf(f_, ",%.12g", sim.jointPosition(j));
   for (size_t c = 0; c < m.clearance_joints.size(); ++c)
     std::fprintf(f_, ",%.10g,%.10g,%.10g", sim.clearanceEccentricity(c),
                  sim.clearanceEccentricityAngle(c), sim.clearanceNormalForce(c));
