@@ -71,3 +71,28 @@ TEST(JointDrives, PdCrankTracksTheRampWithItsSteadyError) {
   }
   EXPECT_GT(sim.jointPosition(0), 18 * M_PI) << "the crank turned with its command";
 }
+
+// A joint placed several turns round (<initial position="10">) starts its
+// continuous angle there: a PD drive holding the initial command does not
+// unwind the turns.
+TEST(JointDrives, InitialPositionKeepsItsTurns) {
+  const std::string urdf = R"(<?xml version="1.0"?>
+<robot name="crank">
+  <link name="world"/>
+  <link name="bar">
+    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
+      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
+  </link>
+  <joint name="hinge" type="continuous">
+    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
+  </joint>
+  <nscd><initial joint="hinge" position="10"/>
+    <actuator name="drive" type="position" joint="hinge" kp="2" kd="0.1"/>
+    <simulation dt="1e-4" gravity="0 0 0"/></nscd>
+</robot>)";
+  Simulator sim(loadSceneFromString(urdf, "crank.urdf"));
+  EXPECT_NEAR(sim.jointPosition(0), 10.0, 1e-12);
+  EXPECT_NEAR(sim.command(0), 10.0, 1e-12);
+  for (int k = 0; k < 2000; ++k) sim.step();
+  EXPECT_NEAR(sim.jointPosition(0), 10.0, 1e-9);
+}

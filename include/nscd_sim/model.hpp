@@ -56,6 +56,9 @@ struct Joint {
   Vec3 axis_b = Vec3::UnitZ();   // the same axis, body_b frame
   Quat rel_rot_zero = Quat::Identity();  // q_a^-1 * q_b at joint position 0
   bool loop = false;        // declared as <nscd><joint> (loop closure)
+  // Coordinate at the initial placement (rad or m; a tree joint's <initial>
+  // position, which may be many turns): where its continuous angle starts.
+  double initial_position = 0;
   int clearance = -1;       // index into Model::clearance_joints, -1 if ideal
   SourceRef src;
 };

@@ -55,7 +55,7 @@ void assembleState(const Model& m, State& s, StepWorkspace& ws) {
                              std::to_string(violation) + " after " +
                              std::to_string(kAssemblyPasses) + " projection passes");
   assembleVelocities(m, s, ws);
-  trackJointAngles(m, s);  // from 0: the angles of the assembled pose, in (-pi, pi]
+  trackJointAngles(m, s);  // from the scene's initial positions (whole turns kept)
 }
 
 }  // namespace nscd

@@ -37,6 +37,8 @@ Model load(const std::string& text, const std::string& name,
   for (const XMLElement* e : sb.nscd["joint"]) readLoopJoint(sb, e);
   for (const XMLElement* e : sb.nscd["initial"]) readInitial(sb, e);
   placeBodies(sb);
+  for (size_t j = 0; j < sb.m.joints.size(); ++j)
+    sb.m.joints[j].initial_position = sb.initialPosition(static_cast<int>(j));
   for (const XMLElement* e : sb.nscd["clearance"]) readClearance(sb, e);
   for (const XMLElement* e : sb.nscd["contact"]) readContact(sb, e);
   for (const XMLElement* e : sb.nscd["spring"]) readSpring(sb, e);
