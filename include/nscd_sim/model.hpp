@@ -63,7 +63,7 @@ struct Joint {
   SourceRef src;
 };
 
-// A revolute joint with radial and axial clearance (scene-format.md).
+// A revolute joint with radial and axial clearance (docs/scene-format.md).
 // The journal body carries the pin, the bearing body the hole; both are centred
 // on the joint frame along the joint axis.
 struct ClearanceJoint {

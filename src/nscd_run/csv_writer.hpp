@@ -1,4 +1,4 @@
-// The CSV columns of nscd_run (interfaces.md): one row per recorded step.
+// The CSV columns of nscd_run (docs/interfaces.md): one row per recorded step.
 #pragma once
 
 #include <cstdio>

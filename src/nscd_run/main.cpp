@@ -1,4 +1,4 @@
-// nscd_run: the headless runner (interfaces.md). Loads a scene, steps it for a
+// nscd_run: the headless runner (docs/interfaces.md). Loads a scene, steps it for a
 // duration with optional actuator schedules, writes a CSV, prints one JSON line.
 // Exit status: 0 done, 2 bad input, 3 the simulation failed.
 #include <unistd.h>
