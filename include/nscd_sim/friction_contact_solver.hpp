@@ -67,20 +67,25 @@ class FrictionContactSolver {
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
                      Eigen::Ref<Eigen::VectorXd> P);
 
+  // The solver's buffers, grown to the largest problem seen, never shrunk
+  // (internal: friction_contact_solver.cpp, nsgs.cpp, global_newton.cpp).
+  struct Workspace {
+    int maxRows = 0;            // capacity in rows
+    int maxEq = 0;              // capacity in equality rows
+    Eigen::VectorXd U, Pbest, Pstart;  // running local velocities; best iterate; Newton start
+    Eigen::MatrixXd eqL;        // Cholesky factor of the assembled equality block
+    Eigen::VectorXd eqRhs;
+    std::vector<int> eqRows;    // rows of the equality block (W order)
+    std::vector<int> eqPerm;    // its diagonal pivoting order
+    int eqRank = 0;
+    Eigen::MatrixXd J;          // Newton: Jacobian, LU in place
+    Eigen::VectorXd phi, d, Wd, Pt, Ut, phiT, rho;
+    std::vector<int> piv;
+    std::vector<char> zeroRow;  // W(i, i) negligible: P_i = 0
+  };
+
  private:
-  // Workspace, grown to the largest problem seen, never shrunk.
-  int maxRows_ = 0;            // capacity in rows
-  int maxEq_ = 0;              // capacity in equality rows
-  Eigen::VectorXd U_, Pbest_, Pstart_;  // running local velocities; best iterate; Newton start
-  Eigen::MatrixXd eqL_;        // Cholesky factor of the assembled equality block
-  Eigen::VectorXd eqRhs_;
-  std::vector<int> eqRows_;    // rows of the equality block (W order)
-  std::vector<int> eqPerm_;    // its diagonal pivoting order
-  int eqRank_ = 0;
-  Eigen::MatrixXd J_;          // Newton: Jacobian, LU in place
-  Eigen::VectorXd phi_, d_, Wd_, Pt_, Ut_, phiT_, rho_;
-  std::vector<int> piv_;
-  std::vector<char> zeroRow_;  // W(i, i) negligible: P_i = 0
+  Workspace ws_;
 };
 
 // The exact local problem of one frictional contact:

@@ -13,6 +13,7 @@
 #include <Eigen/QR>
 #include <Eigen/LU>
 
+#include "alart_curnier.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 
 namespace nscd {
@@ -33,42 +34,18 @@ constexpr int kFixedPointIterations = 300;
 
 bool allFinite3(const Vector3d& v) { return std::isfinite(v(0)) && std::isfinite(v(1)) && std::isfinite(v(2)); }
 
-// Alart-Curnier function (radius mu * max(0, P_N - rhoN U_N)) and one element
-// of its generalised Jacobian J = A + B W, A = dPhi/dP, B = dPhi/dU.
+// The Alart-Curnier function at P (U = W P + b) and, with J, one element of its
+// generalised Jacobian J = A + B W (alart_curnier.cpp).
 void alartCurnier(const Matrix3d& W, const Vector3d& b, double mu, double rhoN, double rhoT,
                   const Vector3d& P, Vector3d& phi, Matrix3d* J) {
   const Vector3d U = W * P + b;
-  Matrix3d A = Matrix3d::Zero();
-  Matrix3d B = Matrix3d::Zero();
-  const double tN = P(0) - rhoN * U(0);
-  if (tN > 0) {
-    phi(0) = rhoN * U(0);
-    B(0, 0) = rhoN;
-  } else {
-    phi(0) = P(0);
-    A(0, 0) = 1;
+  if (!J) {
+    alartCurnierContact(P, U, mu, rhoN, rhoT, phi, nullptr, nullptr);
+    return;
   }
-  const double r = mu * std::max(0.0, tN);
-  const Vector2d z = P.tail<2>() - rhoT * U.tail<2>();
-  const double nz = z.norm();
-  if (nz <= r) {
-    phi.tail<2>() = rhoT * U.tail<2>();
-    B(1, 1) = rhoT;
-    B(2, 2) = rhoT;
-  } else {
-    const Vector2d zh = z / nz;
-    phi.tail<2>() = P.tail<2>() - r * zh;
-    if (J) {
-      const Matrix2d G = (r / nz) * (Matrix2d::Identity() - zh * zh.transpose());
-      A.block<2, 2>(1, 1) = Matrix2d::Identity() - G;
-      B.block<2, 2>(1, 1) = rhoT * G;
-      if (tN > 0) {
-        A.block<2, 1>(1, 0) = -mu * zh;
-        B.block<2, 1>(1, 0) = mu * rhoN * zh;
-      }
-    }
-  }
-  if (J) *J = A + B * W;
+  Matrix3d A, B;
+  alartCurnierContact(P, U, mu, rhoN, rhoT, phi, &A, &B);
+  *J = A + B * W;
 }
 
 double errorOf(const Matrix3d& W, const Vector3d& b, double mu, const Vector3d& P) {

@@ -1,0 +1,110 @@
+// Dense kernels (dense_kernels.hpp): pivoted Cholesky and LU with partial
+// pivoting, in place, no allocation.
+#include "dense_kernels.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+namespace nscd {
+
+// In-place Cholesky with diagonal pivoting of the n x n symmetric A (full
+// storage): A = Pi L L^T Pi^T, L in the lower triangle, perm[k] = original
+// index of pivot k. Stops at the first pivot <= dropTol (the rest is dependent);
+// returns the rank.
+int pivotedCholesky(double* A, int ld, int n, double dropTol, int* perm) {
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (a(i, i) > a(p, p)) p = i;
+    if (!(a(p, p) > dropTol)) return k;
+    if (p != k) {  // symmetric swap of rows and columns k, p
+      for (int j = 0; j < n; ++j) std::swap(a(k, j), a(p, j));
+      for (int i = 0; i < n; ++i) std::swap(a(i, k), a(i, p));
+      std::swap(perm[k], perm[p]);
+    }
+    const double d = std::sqrt(a(k, k));
+    a(k, k) = d;
+    for (int i = k + 1; i < n; ++i) a(i, k) /= d;
+    // Trailing update of the full square (later symmetric swaps move entries
+    // across the diagonal, so both triangles must stay current).
+    for (int j = k + 1; j < n; ++j) {
+      const double ljk = a(j, k);
+      if (ljk == 0) continue;
+      double* cj = &a(0, j);
+      const double* ck = &a(0, k);
+      for (int i = k + 1; i < n; ++i) cj[i] -= ck[i] * ljk;
+    }
+  }
+  return n;
+}
+
+// x = A^+ rhs (basic solution: dependent pivots get 0) from pivotedCholesky;
+// rhs in, x out (both in original order); tmp: n scratch.
+void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* perm, double* x,
+                          double* tmp) {
+  auto l = [&](int i, int j) { return L[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) tmp[k] = x[perm[k]];
+  for (int k = 0; k < rank; ++k) {  // L z = y
+    tmp[k] /= l(k, k);
+    for (int i = k + 1; i < rank; ++i) tmp[i] -= l(i, k) * tmp[k];
+  }
+  for (int k = rank; k < n; ++k) tmp[k] = 0;
+  for (int k = rank - 1; k >= 0; --k) {  // L^T x = z
+    double s = tmp[k];
+    for (int i = k + 1; i < rank; ++i) s -= l(i, k) * tmp[i];
+    tmp[k] = s / l(k, k);
+  }
+  for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
+}
+
+// In-place LU with partial pivoting (row k swapped with piv[k]). False if a
+// pivot is zero or not finite.
+bool luFactor(double* A, int ld, int n, int* piv) {
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    double best = std::abs(a(k, k));
+    for (int i = k + 1; i < n; ++i) {
+      const double v = std::abs(a(i, k));
+      if (v > best) {
+        best = v;
+        p = i;
+      }
+    }
+    if (!(best > 0) || !std::isfinite(best)) return false;
+    piv[k] = p;
+    if (p != k)
+      for (int j = 0; j < n; ++j) std::swap(a(k, j), a(p, j));
+    const double inv = 1 / a(k, k);
+    double* ck = &a(0, k);
+    for (int i = k + 1; i < n; ++i) ck[i] *= inv;
+    for (int j = k + 1; j < n; ++j) {
+      const double akj = a(k, j);
+      if (akj == 0) continue;
+      double* cj = &a(0, j);
+      for (int i = k + 1; i < n; ++i) cj[i] -= ck[i] * akj;
+    }
+  }
+  return true;
+}
+
+void luSolve(const double* A, int ld, int n, const int* piv, double* x) {
+  auto a = [&](int i, int j) { return A[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) std::swap(x[k], x[piv[k]]);
+  for (int k = 0; k < n; ++k) {
+    const double xk = x[k];
+    if (xk != 0)
+      for (int i = k + 1; i < n; ++i) x[i] -= a(i, k) * xk;
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    x[k] /= a(k, k);
+    const double xk = x[k];
+    if (xk != 0)
+      for (int i = 0; i < k; ++i) x[i] -= a(i, k) * xk;
+  }
+}
+
+}  // namespace nscd

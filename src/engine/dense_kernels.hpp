@@ -1,0 +1,23 @@
+// Dense kernels on column-major storage with leading dimension ld, in place and
+// without allocation (the contact solver's equality block and Newton Jacobian).
+#pragma once
+
+namespace nscd {
+
+// In-place Cholesky with diagonal pivoting of the n x n symmetric A (full
+// storage): A = Pi L L^T Pi^T, L in the lower triangle, perm[k] = original
+// index of pivot k. Stops at the first pivot <= dropTol (the rest is dependent);
+// returns the rank.
+int pivotedCholesky(double* A, int ld, int n, double dropTol, int* perm);
+
+// x = A^+ rhs (basic solution: dependent pivots get 0) from pivotedCholesky;
+// rhs in, x out (both in original order); tmp: n scratch.
+void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* perm, double* x,
+                          double* tmp);
+
+// In-place LU with partial pivoting (row k swapped with piv[k]). False if a
+// pivot is zero or not finite.
+bool luFactor(double* A, int ld, int n, int* piv);
+void luSolve(const double* A, int ld, int n, const int* piv, double* x);
+
+}  // namespace nscd
