@@ -14,8 +14,8 @@ using namespace nscd;
 namespace {
 
 // A bar (0.1 kg, 0.2 m, COM 0.1 m from the pivot) on a vertical hinge, no gravity,
-// with one actuator on the hinge.
-Simulator crank(const std::string& actuator) {
+// with `nscd` (an actuator on the hinge, an initial position) in its <nscd>.
+Simulator crank(const std::string& nscd) {
   const std::string urdf = R"(<?xml version="1.0"?>
 <robot name="crank">
   <link name="world"/>
@@ -26,7 +26,7 @@ Simulator crank(const std::string& actuator) {
   <joint name="hinge" type="continuous">
     <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
   </joint>
-  <nscd>)" + actuator + R"(<simulation dt="1e-4" gravity="0 0 0"/></nscd>
+  <nscd>)" + nscd + R"(<simulation dt="1e-4" gravity="0 0 0"/></nscd>
 </robot>)";
   return Simulator(loadSceneFromString(urdf, "crank.urdf"));
 }
@@ -76,21 +76,8 @@ TEST(JointDrives, PdCrankTracksTheRampWithItsSteadyError) {
 // continuous angle there: a PD drive holding the initial command does not
 // unwind the turns.
 TEST(JointDrives, InitialPositionKeepsItsTurns) {
-  const std::string urdf = R"(<?xml version="1.0"?>
-<robot name="crank">
-  <link name="world"/>
-  <link name="bar">
-    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
-      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
-  </link>
-  <joint name="hinge" type="continuous">
-    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
-  </joint>
-  <nscd><initial joint="hinge" position="10"/>
-    <actuator name="drive" type="position" joint="hinge" kp="2" kd="0.1"/>
-    <simulation dt="1e-4" gravity="0 0 0"/></nscd>
-</robot>)";
-  Simulator sim(loadSceneFromString(urdf, "crank.urdf"));
+  Simulator sim = crank(R"(<initial joint="hinge" position="10"/>
+    <actuator name="drive" type="position" joint="hinge" kp="2" kd="0.1"/>)");
   EXPECT_NEAR(sim.jointPosition(0), 10.0, 1e-12);
   EXPECT_NEAR(sim.command(0), 10.0, 1e-12);
   for (int k = 0; k < 2000; ++k) sim.step();
