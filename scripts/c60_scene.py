@@ -183,8 +183,9 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
         # plate spring case anchor
         ('box', (12.3, 9.0, 1.95), (0, 0, 0), (1.0, 2.0, 2.0), 'case'),
     ]
+    w_mesh(w, 'world')
     for kind, xyz, rpy, size, mat in vis:
-        w_visual(w, kind, xyz, rpy, size, mat)
+        w_visual(w, kind, xyz, rpy, size, mat, tag='collision')
     w('  </link>')
 
     for name in ['handle', 'rod', 'hook', 'plate', 'moving_contact', 'trip_bar', 'needle', 'probe']:
@@ -198,8 +199,9 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
         w('      <inertia ixx="%.9g" ixy="%.9g" ixz="%.9g" iyy="%.9g" iyz="%.9g" izz="%.9g"/>' %
           (I[0, 0], I[0, 1], I[0, 2], I[1, 1], I[1, 2], I[2, 2]))
         w('    </inertial>')
+        w_mesh(w, name)
         for v in body_visuals(name):
-            w_visual(w, *v)
+            w_visual(w, *v, tag='collision')
         w('  </link>')
         w('  <joint name="place_%s" type="floating">' % name)
         w('    <parent link="world"/><child link="%s"/>' % name)
@@ -446,15 +448,43 @@ MATERIALS = {'case': (0.55, 0.55, 0.6, 0.35), 'copper': (0.85, 0.5, 0.2, 1), 'ha
              'probe': (0.8, 0.2, 0.2, 1), 'table': (0.3, 0.3, 0.3, 1)}
 
 
-def w_visual(w, kind, xyz, rpy, size, mat, local=True):
+# The parts as the authors' CAD has them (meshes/README.md): STL in mm, each in its
+# part's CAD frame, which is our link frame, except the needle's (ours is turned
+# back by 90 deg about x, MESH_RPY).
+MESHES = {'world': 'boitier.stl', 'handle': 'manette.stl', 'rod': 'biellette.stl',
+          'hook': 'crochet.stl', 'plate': 'platine.stl', 'moving_contact': 'equipage.stl',
+          'trip_bar': 'barre.stl', 'needle': 'aiguille.stl', 'probe': 'probe.stl'}
+MESH_RPY = {'needle': (math.pi / 2, 0, 0)}
+MESH_MATERIAL = {'world': 'case', 'handle': 'handle', 'rod': 'rod', 'hook': 'hook', 'plate': 'plate',
+                 'moving_contact': 'mc', 'trip_bar': 'bar', 'needle': 'steel', 'probe': 'probe'}
+
+
+def w_material(w, mat):
+    w('      <material name="%s"><color rgba="%s"/></material>' % (mat, ' '.join('%g' % c for c in MATERIALS[mat])))
+
+
+def w_mesh(w, link):
+    """The part's mesh as the link's visual."""
     w('    <visual>')
+    w('      <origin xyz="0 0 0" rpy="%s"/>' % ' '.join('%.12g' % snap(a) for a in MESH_RPY.get(link, (0, 0, 0))))
+    w('      <geometry><mesh filename="package://nscd_sim/meshes/%s" scale="0.001 0.001 0.001"/></geometry>'
+      % MESHES[link])
+    w_material(w, MESH_MATERIAL[link])
+    w('    </visual>')
+
+
+def w_visual(w, kind, xyz, rpy, size, mat, local=True, tag='visual'):
+    """A box or cylinder: a <visual>, or a <collision> (the schematic shapes, shown in
+    RViz with the RobotModel's collision display; nscd takes no geometry from either)."""
+    w('    <%s>' % tag)
     w('      <origin xyz="%s" rpy="%s"/>' % (fmt(xyz), ' '.join('%.9g' % snap(a) for a in rpy)))
     if kind == 'box':
         w('      <geometry><box size="%s"/></geometry>' % fmt(size))
     else:
         w('      <geometry><cylinder radius="%.9g" length="%.9g"/></geometry>' % (size[0] * MM, size[1] * MM))
-    w('      <material name="%s"><color rgba="%s"/></material>' % (mat, ' '.join('%g' % c for c in MATERIALS[mat])))
-    w('    </visual>')
+    if tag == 'visual':
+        w_material(w, mat)
+    w('    </%s>' % tag)
 
 
 def bar_between(name, a_world, b_world, width, thick, z, mat):
