@@ -37,7 +37,7 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     python3-rosparam python3-rosmsg rospack-tools \
     python3-std-msgs python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs \
     python3-tf2-msgs python3-rosgraph-msgs python3-sensor-msgs python3-visualization-msgs \
-    rviz librviz-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs \
+    rviz librviz-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
     libeigen3-dev libtinyxml2-dev libyaml-cpp-dev libcli11-dev \
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
     xvfb x11-utils ffmpeg bc

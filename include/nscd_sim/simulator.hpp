@@ -138,6 +138,7 @@ class Simulator {
   // Joint coordinate, continuous across turns (State::joint_angle): rad, or m
   // for a prismatic joint.
   double jointPosition(int joint) const;
+  double jointVelocity(int joint) const;  // rad/s or m/s
   // Per named contact: smallest gap (m), summed normal force and |summed tangential force|.
   double contactGap(int pair) const;
   double contactNormalForce(int pair) const;

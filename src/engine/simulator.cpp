@@ -198,6 +198,7 @@ double Simulator::contactGap(int pair) const {
 }
 
 double Simulator::jointPosition(int joint) const { return nscd::jointPosition(model_, state_, joint); }
+double Simulator::jointVelocity(int joint) const { return nscd::jointVelocity(model_, state_, joint); }
 
 double Simulator::contactNormalForce(int pair) const { return out_->pair_fn[pair]; }
 double Simulator::contactTangentialForce(int pair) const { return out_->pair_ft[pair]; }

@@ -23,6 +23,7 @@
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/JointState.h>
 #include <std_msgs/Float64.h>
 #include <std_srvs/Empty.h>
 #include <std_srvs/SetBool.h>
@@ -32,6 +33,7 @@
 #include "contact_markers.hpp"
 #include "nscd_sim/ContactArray.h"
 #include "nscd_sim/KeyFigures.h"
+#include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/Step.h"
 #include "real_time_pacer.hpp"
 #include "ros_conversions.hpp"
@@ -94,11 +96,16 @@ class SimNode {
         "/tf", 100, [this](const ros::SingleSubscriberPublisher& p) { onTfSubscriber(p); });
     contacts_pub_ = pnh_.advertise<nscd_sim::ContactArray>("contacts", 2);
     key_figures_pub_ = pnh_.advertise<nscd_sim::KeyFigures>("key_figures", 10);
-    for (const nscd::Actuator& a : model.actuators) {
-      key_figures_msg_.names.push_back(a.name + ".cmd");
-      key_figures_msg_.names.push_back(a.name + ".effort");
+    key_figures_msg_.names = nscd::keyFigureNames(model);
+    key_figures_msg_.values.reserve(key_figures_msg_.names.size());
+    joint_states_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+    for (size_t j = 0; j < model.joints.size(); ++j) {
+      if (model.joints[j].type == nscd::JointType::Fixed) continue;
+      joint_state_index_.push_back(static_cast<int>(j));
+      joint_states_msg_.name.push_back(model.joints[j].name);
     }
-    key_figures_msg_.values.resize(key_figures_msg_.names.size());
+    joint_states_msg_.position.resize(joint_state_index_.size());
+    joint_states_msg_.velocity.resize(joint_state_index_.size());
     markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("contact_markers", 2);
     diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 2);
     if (opt_.use_sim_time) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 2);
@@ -364,6 +371,7 @@ class SimNode {
     const bool want_contacts = contacts_pub_.getNumSubscribers() > 0;
     const bool want_markers = markers_pub_.getNumSubscribers() > 0;
     const bool want_key_figures = key_figures_pub_.getNumSubscribers() > 0;
+    const bool want_joint_states = joint_states_pub_.getNumSubscribers() > 0;
     double t;
     bool publish_tf;
     {
@@ -393,14 +401,18 @@ class SimNode {
         for (size_t i = 0; i < reports.size(); ++i)
           toContactMsg(model, reports[i], contacts_msg_.contacts[i]);
       }
+      if (want_joint_states) {
+        joint_states_msg_.header.stamp = stamp;
+        for (size_t k = 0; k < joint_state_index_.size(); ++k) {
+          joint_states_msg_.position[k] = sim_->jointPosition(joint_state_index_[k]);
+          joint_states_msg_.velocity[k] = sim_->jointVelocity(joint_state_index_[k]);
+        }
+      }
       if (want_key_figures) {
         key_figures_msg_.header.stamp = stamp;
         key_figures_msg_.sim_time = t;
         key_figures_msg_.steps = steps_;
-        for (size_t i = 0; i < model.actuators.size(); ++i) {
-          key_figures_msg_.values[2 * i] = sim_->command(static_cast<int>(i));
-          key_figures_msg_.values[2 * i + 1] = sim_->actuatorEffort(static_cast<int>(i));
-        }
+        nscd::keyFigureValues(*sim_, key_figures_msg_.values);
       }
       if (want_markers) {
         for (size_t i = 0; i < eccentricity_.size(); ++i)
@@ -414,6 +426,7 @@ class SimNode {
     }
     if (want_contacts) contacts_pub_.publish(contacts_msg_);
     if (want_key_figures) key_figures_pub_.publish(key_figures_msg_);
+    if (want_joint_states) joint_states_pub_.publish(joint_states_msg_);
     if (want_markers) markers_pub_.publish(markers_msg_);
     if (opt_.use_sim_time) {
       rosgraph_msgs::Clock clock;
@@ -486,10 +499,12 @@ class SimNode {
   bool have_tf_stamp_ = false;
   nscd_sim::ContactArray contacts_msg_;
   nscd_sim::KeyFigures key_figures_msg_;  // names fixed at start, values per publication
+  sensor_msgs::JointState joint_states_msg_;
+  std::vector<int> joint_state_index_;  // the joints of joint_states_msg_ (not fixed)
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<EccentricityView> eccentricity_;
 
-  ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
+  ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, joint_states_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
   std::vector<ros::Subscriber> command_subs_;
   std::set<std::string> actuator_names_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;

@@ -56,6 +56,8 @@ check rostopic_echo_tf rostopic echo -n 1 /tf
 check rostopic_echo_diagnostics rostopic echo -n 1 /diagnostics
 check rostopic_echo_contacts rostopic echo -n 1 /nscd_sim_node/contacts
 check rostopic_echo_markers rostopic echo -n 1 /nscd_sim_node/contact_markers
+check rostopic_echo_key_figures rostopic echo -n 1 /nscd_sim_node/key_figures
+check rostopic_echo_joint_states rostopic echo -n 1 /joint_states
 check rostopic_pub rostopic pub -1 /nscd_sim_node/hinge_motor/command std_msgs/Float64 "data: 0.3"
 check rosmsg_show rosmsg show nscd_sim/ContactArray
 check rosbag_record rosbag record -O "$out/smoke.bag" --duration=2 /tf /nscd_sim_node/contacts /diagnostics
