@@ -54,6 +54,13 @@ SteppedNode::SteppedNode() {
       });
 }
 
+SteppedNode::~SteppedNode() {
+  // Subscriber::shutdown waits for a callback in progress to return.
+  tf_sub_.shutdown();
+  contacts_sub_.shutdown();
+  figures_sub_.shutdown();
+}
+
 bool SteppedNode::setPaused(bool paused) {
   std_srvs::SetBool srv;
   srv.request.data = paused;

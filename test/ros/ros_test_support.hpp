@@ -92,6 +92,11 @@ bool publishWhenConnected(ros::Publisher& pub, const M& msg, double timeout = 10
 class SteppedNode {
  public:
   SteppedNode();
+  // Shuts the subscriptions down first: a callback still running must not
+  // write into members already destroyed.
+  ~SteppedNode();
+  SteppedNode(const SteppedNode&) = delete;
+  SteppedNode& operator=(const SteppedNode&) = delete;
   bool setPaused(bool paused);
   // ~step(count); waits until ~contacts and /tf show the state after it. Returns
   // that state's ~contacts (null if the call failed, took fewer steps, or timed out).
