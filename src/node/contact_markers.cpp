@@ -1,6 +1,7 @@
 #include "contact_markers.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "ros_conversions.hpp"
 
@@ -51,6 +52,31 @@ bool makeArrow(const MarkerStyle& style, const ros::Time& stamp, const char* ns,
 }
 
 }  // namespace
+
+void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
+                       const std::vector<std::string>& names, const std::vector<double>& values,
+                       const StatusText& text, const ros::Time& stamp,
+                       visualization_msgs::Marker& out) {
+  out = makeMarker(style, stamp, "status", 0, Marker::TEXT_VIEW_FACING);
+  out.pose.position.x = text.position.x();
+  out.pose.position.y = text.position.y();
+  out.pose.position.z = text.position.z();
+  out.scale.z = text.height;
+  out.color.r = out.color.g = out.color.b = out.color.a = 1.0f;
+  char buf[160];
+  // Two lines: RViz spaces the lines of a text marker widely.
+  std::snprintf(buf, sizeof buf, "t = %.3f ms   rtf %.3g", 1e3 * sim_time, rtf);
+  std::string s = buf;
+  if (style.force_scale > 0) {
+    std::snprintf(buf, sizeof buf, "   arrows: 1 mm = %.3g N", 1e-3 / style.force_scale);
+    s += buf;
+  }
+  for (size_t i = 0; i < names.size() && i < values.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%s %.3f", i == 0 ? "\n" : "   ", names[i].c_str(), values[i]);
+    s += buf;
+  }
+  out.text = s;
+}
 
 EccentricityView eccentricityView(const nscd::Simulator& sim, int cj) {
   const nscd::ClearanceJoint& j = sim.model().clearance_joints[cj];

@@ -44,4 +44,16 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
                          const MarkerStyle& style, const ros::Time& stamp,
                          visualization_msgs::MarkerArray& out);
 
+// The status line drawn in the 3D view (~status, a TEXT_VIEW_FACING marker):
+// sim time to the microsecond, the real-time factor reached, the arrow scale
+// in newtons per millimetre of arrow, and chosen key figures ("C7.fn 13.2").
+struct StatusText {
+  nscd::Vec3 position = nscd::Vec3::Zero();  // world frame
+  double height = 0.01;                       // m
+};
+void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
+                       const std::vector<std::string>& names, const std::vector<double>& values,
+                       const StatusText& text, const ros::Time& stamp,
+                       visualization_msgs::Marker& out);
+
 }  // namespace nscd_node

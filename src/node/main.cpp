@@ -21,17 +21,19 @@ int main(int argc, char** argv) {
   std::unique_ptr<nscd::Simulator> sim;
   nscd_node::NodeOptions options;
   std::vector<nscd::BoundSchedule> schedules;
+  nscd_node::StatusOverlay overlay;
   try {
     options = nscd_node::readNodeOptions(pnh);
     nscd::Model model = nscd_node::loadModel(nh, pnh);
     // The engine's assembly errors already name the scene file.
     sim = std::make_unique<nscd::Simulator>(std::move(model));
     schedules = nscd_node::bindSchedules(pnh, options.schedules, sim->model());
+    overlay = nscd_node::statusOverlay(pnh, options, sim->model());
   } catch (const std::exception& e) {
     ROS_FATAL("%s", e.what());
     return 2;
   }
   nscd_node::warnUnknownParams(pnh);
-  nscd_node::runSimNode(nh, pnh, std::move(sim), options, schedules);
+  nscd_node::runSimNode(nh, pnh, std::move(sim), options, schedules, overlay);
   return 0;
 }

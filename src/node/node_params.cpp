@@ -1,10 +1,12 @@
 // The node's parameters (node_params.hpp).
 #include "node_params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
 
+#include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "ros_conversions.hpp"
 
@@ -35,7 +37,8 @@ double numberParam(const ros::NodeHandle& pnh, const std::string& key, double fa
 const std::vector<std::string>& nodeParamKeys() {
   static const std::vector<std::string> keys = {
       "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
-      "force_scale", "marker_size", "ecc_scale", "schedule"};
+      "force_scale", "marker_size", "ecc_scale", "schedule", "overlay_figures",
+      "overlay_position", "overlay_size"};
   return keys;
 }
 
@@ -49,6 +52,32 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   o.markers.ecc_scale = numberParam(pnh, "ecc_scale", o.markers.ecc_scale, false);
   pnh.param("start_paused", o.start_paused, o.start_paused);
   ros::param::param("/use_sim_time", o.use_sim_time, false);
+  o.overlay_size = numberParam(pnh, "overlay_size", 0.0, false);
+  XmlRpc::XmlRpcValue ov;
+  if (pnh.getParam("overlay_figures", ov)) {
+    o.overlay_figures_set = true;
+    if (ov.getType() != XmlRpc::XmlRpcValue::TypeArray)
+      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
+                             ": expected a list of key-figure names, e.g. [C7.fn, probe.effort]");
+    for (int i = 0; i < ov.size(); ++i) {
+      if (ov[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+        throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
+                               ": expected strings (key-figure names)");
+      o.overlay_figures.push_back(static_cast<std::string>(ov[i]));
+    }
+  }
+  if (pnh.getParam("overlay_position", ov)) {
+    bool ok = ov.getType() == XmlRpc::XmlRpcValue::TypeArray && ov.size() == 3;
+    for (int i = 0; ok && i < 3; ++i) {
+      ok = ov[i].getType() == XmlRpc::XmlRpcValue::TypeDouble || ov[i].getType() == XmlRpc::XmlRpcValue::TypeInt;
+      if (ok) o.overlay_position.push_back(ov[i].getType() == XmlRpc::XmlRpcValue::TypeInt
+                                               ? double(static_cast<int>(ov[i]))
+                                               : static_cast<double>(ov[i]));
+    }
+    if (!ok)
+      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_position") +
+                             ": expected 3 numbers [x, y, z] (m, world frame)");
+  }
   XmlRpc::XmlRpcValue v;
   if (pnh.getParam("schedule", v)) {
     const std::string where = "parameter " + pnh.resolveName("schedule");
@@ -66,6 +95,38 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
     }
   }
   return o;
+}
+
+StatusOverlay statusOverlay(const ros::NodeHandle& pnh, const NodeOptions& o, const nscd::Model& model) {
+  StatusOverlay s;
+  const std::vector<std::string> names = nscd::keyFigureNames(model);
+  std::vector<std::string> wanted = o.overlay_figures;
+  if (!o.overlay_figures_set)
+    for (const nscd::Actuator& a : model.actuators) wanted.push_back(a.name + ".effort");
+  for (const std::string& w : wanted) {
+    const auto it = std::find(names.begin(), names.end(), w);
+    if (it == names.end()) {
+      std::string all;
+      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") + ": unknown figure '" +
+                             w + "' (figures: " + (all.empty() ? "none" : all) + ")");
+    }
+    s.figures.push_back(static_cast<int>(it - names.begin()));
+  }
+  // Default: beside the bodies' initial centres of mass (a third of their extent,
+  // at least 25 mm, below the lowest in y), a text height of 1/25 of that extent.
+  nscd::Vec3 lo = nscd::Vec3::Constant(1e300), hi = nscd::Vec3::Constant(-1e300);
+  for (const nscd::Body& b : model.bodies) {
+    lo = lo.cwiseMin(b.initial_pose.p);
+    hi = hi.cwiseMax(b.initial_pose.p);
+  }
+  if (model.bodies.empty()) lo = hi = nscd::Vec3::Zero();
+  const double extent = std::max(0.025, (hi - lo).norm());
+  s.height = o.overlay_size > 0 ? o.overlay_size : extent / 25;
+  s.position = o.overlay_position.size() == 3
+                   ? nscd::Vec3(o.overlay_position[0], o.overlay_position[1], o.overlay_position[2])
+                   : nscd::Vec3(0.5 * (lo.x() + hi.x()), lo.y() - 0.35 * extent, hi.z());
+  return s;
 }
 
 std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,

@@ -23,6 +23,12 @@ struct NodeOptions {
   bool use_sim_time = false;
   MarkerStyle markers;
   std::vector<std::string> schedules;  // "NAME=t0:v0,t1:v1,..." as for nscd_run --command
+  // The status text in the 3D view (~status): key figures to show (default: the
+  // actuators' efforts), where (world frame; default above the bodies) and how high.
+  std::vector<std::string> overlay_figures;
+  bool overlay_figures_set = false;
+  std::vector<double> overlay_position;  // empty: default
+  double overlay_size = 0;               // 0: default
 };
 
 // The node's own parameter names (the simulation settings come on top).
@@ -34,6 +40,16 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh);
 // ~scene (a file) if set, else robot_description, with the simulation settings
 // among the private parameters as overrides. Throws nscd::SceneError.
 nscd::Model loadModel(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
+
+// The status text's figures (indices into nscd::keyFigureNames), position and
+// height for the model: the options' values, checked, or the defaults. Throws
+// nscd::SceneError naming an unknown figure.
+struct StatusOverlay {
+  std::vector<int> figures;
+  nscd::Vec3 position = nscd::Vec3::Zero();
+  double height = 0.01;
+};
+StatusOverlay statusOverlay(const ros::NodeHandle& pnh, const NodeOptions& o, const nscd::Model& model);
 
 // The ~schedule texts bound to the model's actuators. Throws nscd::SceneError.
 std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,

@@ -68,9 +68,10 @@ class WallThrottle {
 class SimNode {
  public:
   SimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
-          const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules)
+          const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
+          const StatusOverlay& overlay)
       : nh_(nh), pnh_(pnh), sim_(std::move(sim)), opt_(options),
-        pacer_(options.real_time_factor, sim_->model().settings.dt) {
+        pacer_(options.real_time_factor, sim_->model().settings.dt), overlay_(overlay) {
     for (const nscd::BoundSchedule& b : schedules) schedules_.push_back({b.actuator, b.schedule, true});
     const nscd::Model& model = sim_->model();
     scene_name_ = model.source_file;
@@ -98,6 +99,9 @@ class SimNode {
     key_figures_pub_ = pnh_.advertise<nscd_sim::KeyFigures>("key_figures", 10);
     key_figures_msg_.names = nscd::keyFigureNames(model);
     key_figures_msg_.values.reserve(key_figures_msg_.names.size());
+    status_pub_ = pnh_.advertise<visualization_msgs::Marker>("status", 2);
+    for (int f : overlay_.figures) status_names_.push_back(key_figures_msg_.names[f]);
+    status_values_.resize(status_names_.size());
     joint_states_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
     for (size_t j = 0; j < model.joints.size(); ++j) {
       if (model.joints[j].type == nscd::JointType::Fixed) continue;
@@ -372,6 +376,7 @@ class SimNode {
     const bool want_markers = markers_pub_.getNumSubscribers() > 0;
     const bool want_key_figures = key_figures_pub_.getNumSubscribers() > 0;
     const bool want_joint_states = joint_states_pub_.getNumSubscribers() > 0;
+    const bool want_status = status_pub_.getNumSubscribers() > 0;
     double t;
     bool publish_tf;
     {
@@ -408,11 +413,26 @@ class SimNode {
           joint_states_msg_.velocity[k] = sim_->jointVelocity(joint_state_index_[k]);
         }
       }
+      if (want_key_figures || want_status) nscd::keyFigureValues(*sim_, figure_values_);
+      if (want_status) {
+        // rtf over the last publication period (sim time per wall time).
+        const auto now = SteadyClock::now();
+        const double wall = seconds(now - status_wall_);
+        if (wall > 0 && status_have_) status_rtf_ = (t - status_sim_) / wall;
+        status_wall_ = now;
+        status_sim_ = t;
+        status_have_ = true;
+        for (size_t i = 0; i < overlay_.figures.size(); ++i) status_values_[i] = figure_values_[overlay_.figures[i]];
+        StatusText text;
+        text.position = overlay_.position;
+        text.height = overlay_.height;
+        buildStatusMarker(t, status_rtf_, opt_.markers, status_names_, status_values_, text, stamp, status_msg_);
+      }
       if (want_key_figures) {
         key_figures_msg_.header.stamp = stamp;
         key_figures_msg_.sim_time = t;
         key_figures_msg_.steps = steps_;
-        nscd::keyFigureValues(*sim_, key_figures_msg_.values);
+        key_figures_msg_.values = figure_values_;
       }
       if (want_markers) {
         for (size_t i = 0; i < eccentricity_.size(); ++i)
@@ -427,6 +447,7 @@ class SimNode {
     if (want_contacts) contacts_pub_.publish(contacts_msg_);
     if (want_key_figures) key_figures_pub_.publish(key_figures_msg_);
     if (want_joint_states) joint_states_pub_.publish(joint_states_msg_);
+    if (want_status) status_pub_.publish(status_msg_);
     if (want_markers) markers_pub_.publish(markers_msg_);
     if (opt_.use_sim_time) {
       rosgraph_msgs::Clock clock;
@@ -500,11 +521,19 @@ class SimNode {
   nscd_sim::ContactArray contacts_msg_;
   nscd_sim::KeyFigures key_figures_msg_;  // names fixed at start, values per publication
   sensor_msgs::JointState joint_states_msg_;
+  std::vector<double> figure_values_;  // nscd::keyFigureValues, per publication
+  StatusOverlay overlay_;
+  std::vector<std::string> status_names_;
+  std::vector<double> status_values_;
+  visualization_msgs::Marker status_msg_;
+  SteadyClock::time_point status_wall_;  // last status publication (rtf)
+  double status_sim_ = 0, status_rtf_ = 0;
+  bool status_have_ = false;
   std::vector<int> joint_state_index_;  // the joints of joint_states_msg_ (not fixed)
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<EccentricityView> eccentricity_;
 
-  ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, joint_states_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
+  ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, joint_states_pub_, status_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
   std::vector<ros::Subscriber> command_subs_;
   std::set<std::string> actuator_names_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
@@ -515,8 +544,9 @@ class SimNode {
 }  // namespace
 
 void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
-                const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules) {
-  SimNode node(nh, pnh, std::move(sim), options, schedules);
+                const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
+                const StatusOverlay& overlay) {
+  SimNode node(nh, pnh, std::move(sim), options, schedules, overlay);
   ros::AsyncSpinner spinner(1);
   spinner.start();
   node.run();

@@ -15,6 +15,7 @@ namespace nscd_node {
 // Advertises the node's topics and services and runs its stepping and
 // publishing loop until ROS shuts down.
 void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
-                const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules);
+                const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
+                const StatusOverlay& overlay);
 
 }  // namespace nscd_node

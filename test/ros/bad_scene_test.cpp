@@ -131,6 +131,14 @@ TEST(BadScene, AssemblyFailureNamesTheFileOnce) {
   EXPECT_EQ(r.output.find(file, first + 1), std::string::npos) << "file named twice: " << r.output;
 }
 
+// A status-text figure the scene does not have.
+TEST(BadScene, UnknownOverlayFigureExits) {
+  const RunResult r = runNode({"__name:=bad_overlay", "_scene:=" + kSource + "/test/ros/actuated_pendulum.urdf",
+                               "_overlay_figures:=[nosuch.fn]"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("unknown figure 'nosuch.fn'"), std::string::npos) << r.output;
+}
+
 // A schedule for an actuator the scene does not have, and a malformed one.
 TEST(BadScene, BadScheduleExits) {
   const std::string pendulum = "_scene:=" + kSource + "/test/ros/actuated_pendulum.urdf";

@@ -127,6 +127,28 @@ TEST(ContactMarkers, EccentricityMagnifiedInBearingPlane) {
   EXPECT_NE(find(a, "eccentricity", 0)->color.g, free_color.g);
 }
 
+// The status text: sim time in ms to the microsecond, the rtf, the arrow scale
+// in N per mm of arrow (force_scale 0.0003 m/N: 1 mm = 3.33 N), the figures.
+TEST(ContactMarkers, StatusTextShowsTimeScaleAndFigures) {
+  nscd_node::MarkerStyle style;
+  style.force_scale = 0.0003;
+  nscd_node::StatusText text;
+  text.position = nscd::Vec3(0.01, -0.02, 0.005);
+  text.height = 0.002;
+  visualization_msgs::Marker m;
+  nscd_node::buildStatusMarker(0.0051234, 0.001, style, {"C7.fn", "probe.effort"}, {13.25, 2.5}, text,
+                    ros::Time(1.0), m);
+  EXPECT_EQ(m.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  EXPECT_EQ(m.ns, "status");
+  EXPECT_DOUBLE_EQ(m.pose.position.y, -0.02);
+  EXPECT_DOUBLE_EQ(m.scale.z, 0.002);
+  EXPECT_NE(m.text.find("t = 5.123 ms"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("rtf 0.001"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("1 mm = 3.33 N"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("C7.fn 13.250"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("probe.effort 2.500"), std::string::npos) << m.text;
+}
+
 TEST(RosConversions, ContactMessageNamesLinksAndSource) {
   nscd::Model model;
   model.world_frame = "world";
