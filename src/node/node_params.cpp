@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <set>
+#include <sstream>
 
 #include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/scene_loader.hpp"
@@ -56,10 +57,18 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   XmlRpc::XmlRpcValue ov;
   if (pnh.getParam("overlay_figures", ov)) {
     o.overlay_figures_set = true;
-    if (ov.getType() != XmlRpc::XmlRpcValue::TypeArray)
+    if (ov.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      // From the command line (_overlay_figures:=[a, b]) a list arrives as text.
+      std::string text = static_cast<std::string>(ov);
+      for (char& c : text)
+        if (c == ',' || c == '[' || c == ']' || c == '"' || c == '\'') c = ' ';
+      std::istringstream in(text);
+      for (std::string w; in >> w;) o.overlay_figures.push_back(w);
+    } else if (ov.getType() != XmlRpc::XmlRpcValue::TypeArray) {
       throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
                              ": expected a list of key-figure names, e.g. [C7.fn, probe.effort]");
-    for (int i = 0; i < ov.size(); ++i) {
+    }
+    for (int i = 0; ov.getType() == XmlRpc::XmlRpcValue::TypeArray && i < ov.size(); ++i) {
       if (ov[i].getType() != XmlRpc::XmlRpcValue::TypeString)
         throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
                                ": expected strings (key-figure names)");
