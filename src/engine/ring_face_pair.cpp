@@ -7,9 +7,9 @@
 // in the CLOSED rectangle (on an edge counts as on the face, no allowance).
 // So a ring whose deepest point is beyond an edge gives no point, even if
 // other parts of it lie over the face: what is past the edge is another
-// contact's business (the edge itself, or the next face), as in the authors'
-// edge-face pairs. The point appears or vanishes with its gap continuous, only
-// the set of points jumps.
+// contact's business (the edge itself, or the next face). A CAD edge-face
+// distance would there be measured to the face's edge instead. The point
+// vanishes with its gap unchanged: only the set of points jumps.
 #include "shape_pairs.hpp"
 
 namespace nscd {
