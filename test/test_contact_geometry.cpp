@@ -1124,3 +1124,67 @@ TEST(ContactGeometry, CylinderArcPlane) {
     EXPECT_NEAR(p->gap, 0.4 + 0.3 * std::sin(0.2), kTol) << f;
   }
 }
+
+// Three C-60 contacts at the ON state, from the CAD tables
+// (/work/shared/c60/cad/contacts_cad.json; world frame, mm, inputs rounded to
+// 1e-4 mm): the pairs reproduce the CAD distance (gap before the authors'
+// offset) within 3e-4 mm and its points within 3e-3 mm.
+namespace {
+// The frame at o whose z is `z` and x is `x` (made orthogonal to z).
+Pose frameAt(const Vec3& o, const Vec3& z, const Vec3& x) {
+  const Vec3 zn = z.normalized();
+  const Vec3 xn = (x - x.dot(zn) * zn).normalized();
+  Mat3 r;
+  r.col(0) = xn;
+  r.col(1) = zn.cross(xn);
+  r.col(2) = zn;
+  return Pose{o, Quat(r)};
+}
+double deg(double d) { return d * kPi / 180; }
+}  // namespace
+
+TEST(ContactGeometry, C60CadContactsAtOn) {
+  ContactPoint out[kMaxPointsPerPair];
+  // C4_1: the hook's vertical half-ring r 0.5 (its middle towards the seat)
+  // on the bar's seat F4, a 0.59013 x 3 face whose outward normal is
+  // (-0.5878, 0.809, 0). CAD distance 0.009111.
+  {
+    const Vec3 c(2.4093, 5.6963, 7.1), mid = (Vec3(2.7122, 5.2984, 7.1) - c).normalized();
+    const Pose ringPose = frameAt(c, Vec3(-0.7957, -0.6056, 0), mid);
+    const Vec3 n(-0.5878, 0.809, 0);
+    const Pose seat = frameAt(Vec3(2.7602, 5.3221, 8.1), n, Vec3(0, 0, 1).cross(n));
+    ASSERT_EQ(run(ring(0.5, -kPi / 2, kPi), ringPose, face(0.59013, 3.0), seat, 1.0, out), 1);
+    std::printf("[ figures  ] C4_1 at ON: distance %.6f mm (CAD 0.009111)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.009111, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(2.7122, 5.2984, 7.1), 3e-3);
+    expectVecNear(out[0].point_b, Vec3(2.7175, 5.2911, 7.1), 3e-3);
+  }
+  // C5_1: the bar's half-ring r 0.48, 130.75 deg about its middle, outside the
+  // hook's arc r 5.63 about J3, 3 long, at world angles 156.07..204.97 deg.
+  // CAD distance 0.029465.
+  {
+    const Vec3 c(2.1612, 5.1341, 7.4), mid = Vec3(2.5495, 5.4162, 7.4) - c;
+    const double a = std::atan2(mid.y(), mid.x()), sp = deg(130.75);
+    const Pose hook = at(Vec3(7.767, 7.6377, 8.1));
+    ASSERT_EQ(run(ring(0.48, a - sp / 2, sp), at(c), cylinderArc(5.63, 3.0, deg(156.07), deg(48.9)), hook, 1.0, out), 1);
+    std::printf("[ figures  ] C5_1 at ON: distance %.6f mm (CAD 0.029465)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.029465, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(2.5995, 5.3298, 7.4), 3e-3);
+    expectVecNear(out[0].point_b, Vec3(2.6264, 5.3418, 7.4), 3e-3);
+    // The contact lies at 204.07 deg about J3, 0.9 deg inside the arc's end: an
+    // arc ending at 203 deg gives no point.
+    EXPECT_EQ(run(ring(0.48, a - sp / 2, sp), at(c), cylinderArc(5.63, 3.0, deg(154.1), deg(48.9)), hook, 1.0, out), 0);
+  }
+  // TRIP_2: the bar's arc r 6.0 (53.18 deg about 179.47 deg) against the
+  // probe's flat end, the face x = -5.0 of 6.17522 x 6.20044 facing +x.
+  // CAD distance 0.389133.
+  {
+    const double sp = deg(53.18), a = std::atan2(-9.0045 + 9.0596, -4.6106 - 1.3891);
+    const Pose probe = frameAt(Vec3(-5.0, -8.9, 4.65), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    ASSERT_EQ(run(ring(6.0, a - sp / 2, sp), at(Vec3(1.3891, -9.0596, 5.9)), face(6.17522, 6.20044), probe, 1.0, out), 1);
+    std::printf("[ figures  ] TRIP_2 at ON: distance %.6f mm (CAD 0.389133)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.389133, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(-4.6109, -9.0596, 5.9), 3e-3);
+    expectVecNear(out[0].normal, Vec3(1, 0, 0), 1e-12);
+  }
+}
