@@ -48,6 +48,29 @@ inline std::string slopeScene(double alpha, double mu, double dt) {
 </robot>)";
 }
 
+// In the x-y plane (planar, gravity -y): a disc of radius r (mass m, I = m r^2/2)
+// whose contact shape is its rim, a `ring`, on a `face` of length `len` (along
+// the slope, centred at the origin) tilted up by alpha about z; the disc starts
+// at rest touching the face `s0` up the slope from its centre.
+inline std::string ringOnFaceScene(double r, double alpha, double len, double s0, double mu,
+                                   double dt) {
+  const double m = 0.1, I = 0.5 * m * r * r;
+  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  const double cx = s0 * ca - r * sa, cy = s0 * sa + r * ca;  // on the slope, r along its normal
+  return R"(<robot name="ring_on_face">
+  <link name="world"/>
+  <link name="disc"><inertial><mass value=")" + num(m) + R"("/><inertia ixx=")" + num(I) +
+         R"(" iyy=")" + num(I) + R"(" izz=")" + num(I) + R"(" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="free" type="floating"><parent link="world"/><child link="disc"/>
+    <origin xyz=")" + num(cx) + " " + num(cy) + R"( 0"/></joint>
+  <nscd><contact name="rim" mu=")" + num(mu) + R"(" e="0">
+    <shape link="disc" type="ring" radius=")" + num(r) + R"("/>
+    <shape link="world" type="face" size=")" + num(len) + R"( 0.01"><origin rpy="-1.5707963267948966 0 )" +
+         num(alpha) + R"("/></shape></contact></nscd>
+  <nscd><simulation dt=")" + num(dt) + R"(" gravity="0 -9.81 0" planar="xy"/></nscd>
+</robot>)";
+}
+
 // A pendulum: hinge about y at the origin, centre of mass `l` below, released at theta0.
 inline std::string pendulumScene(double l, double m, double I, double theta0, double dt) {
   return R"(<robot name="pendulum">

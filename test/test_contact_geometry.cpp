@@ -44,6 +44,30 @@ Shape plane() {
   return s;
 }
 
+// A ring (circle edge) of radius r, limited to the arc start + [0, span].
+Shape ring(double r, double start = 0, double span = 2 * kPi) {
+  Shape s;
+  s.type = ShapeType::Ring;
+  s.radius = r;
+  s.start = start;
+  s.span = span;
+  return s;
+}
+// A face: the rectangle |x| <= sx/2, |y| <= sy/2 of its frame's xy plane.
+Shape face(double sx, double sy) {
+  Shape s;
+  s.type = ShapeType::Face;
+  s.half_extents = Vec3(0.5 * sx, 0.5 * sy, 0);
+  return s;
+}
+// A cylinder whose lateral surface is limited to the arc start + [0, span].
+Shape cylinderArc(double r, double len, double start, double span) {
+  Shape s = roundShape(ShapeType::Cylinder, r, len);
+  s.start = start;
+  s.span = span;
+  return s;
+}
+
 Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
 Quat rotAbout(const Vec3& axis, double angle) {
   return Quat(Eigen::AngleAxisd(angle, axis.normalized()));
@@ -100,14 +124,17 @@ TEST(ContactGeometry, SupportedPairs) {
   using T = ShapeType;
   const T yes[][2] = {{T::Sphere, T::Plane},  {T::Sphere, T::Sphere},   {T::Sphere, T::Box},
                       {T::Sphere, T::Capsule}, {T::Capsule, T::Plane},  {T::Box, T::Plane},
-                      {T::Capsule, T::Capsule}, {T::Cylinder, T::Plane}, {T::Capsule, T::Box}};
+                      {T::Capsule, T::Capsule}, {T::Cylinder, T::Plane}, {T::Capsule, T::Box},
+                      {T::Ring, T::Plane},     {T::Ring, T::Face},      {T::Ring, T::Cylinder}};
   for (auto& p : yes) {
     EXPECT_TRUE(shapePairSupported(p[0], p[1]));
     EXPECT_TRUE(shapePairSupported(p[1], p[0]));
   }
   const T no[][2] = {{T::Plane, T::Plane},     {T::Box, T::Box},         {T::Cylinder, T::Cylinder},
                      {T::Sphere, T::Cylinder}, {T::Capsule, T::Cylinder},
-                     {T::Cylinder, T::Box}};
+                     {T::Cylinder, T::Box},    {T::Ring, T::Ring},       {T::Ring, T::Sphere},
+                     {T::Ring, T::Box},        {T::Ring, T::Capsule},    {T::Face, T::Face},
+                     {T::Face, T::Plane},      {T::Face, T::Sphere},     {T::Face, T::Cylinder}};
   for (auto& p : no) {
     EXPECT_FALSE(shapePairSupported(p[0], p[1]));
     EXPECT_FALSE(shapePairSupported(p[1], p[0]));
@@ -554,6 +581,25 @@ static std::vector<PairCase> randomCases(std::mt19937_64& rng, int per_pair) {
     cases.push_back({capsule(0.02, 0.15), capsule(0.03, 0.2), pose(0.1), q});
     cases.push_back({capsule(0.02, 0.15), box(Vec3(0.05, 0.1, 0.07)), pose(0.15), q});
   }
+  // Ring pairs, drawn after the others (whose draws stay as they were): a
+  // half-ring on a plane, a ring over the middle of a face, a ring beside a long
+  // cylinder (its deepest point always on the patch).
+  for (int i = 0; i < per_pair; ++i) {
+    const Pose p0 = pose(0.5);
+    const Vec3 m = p0.rotate(Vec3::UnitZ());
+    auto abovePlane = [&](double h) {
+      return at(p0.p + anyOrthogonal(m) * uni(rng, -0.3, 0.3) + h * m, randQuat(rng));
+    };
+    const Pose q = pose(0.1);
+    cases.push_back({ring(0.04, uni(rng, -kPi, kPi), kPi), plane(), abovePlane(uni(rng, -0.03, 0.03)), p0});
+    cases.push_back({ring(0.04), face(0.8, 0.8), abovePlane(uni(rng, 0.0, 0.05)), p0});
+    {
+      const Vec3 u = q.rotate(Vec3::UnitZ()), side = anyOrthogonal(u);
+      const Vec3 dir = rotAbout(u, uni(rng, -kPi, kPi)) * side;
+      const Vec3 c = q.p + (0.05 + uni(rng, 0.02, 0.07)) * dir + uni(rng, -0.2, 0.2) * u;
+      cases.push_back({ring(0.03), cylinder(0.05, 2.0), at(c, randQuat(rng)), q});
+    }
+  }
   return cases;
 }
 
@@ -631,7 +677,7 @@ TEST(ContactGeometry, NormalAndPointsMatchFiniteDifferences) {
   const double h = 1e-7;  // |dt|, and |dw| * 0.1 m
   double worst = 0;
   int checked = 0;
-  int per_pair[5][5] = {};
+  int per_pair[7][7] = {};
   const std::vector<PairCase> cases = randomCases(rng, 25);
   for (const PairCase& c : cases) {
     ContactPoint base[kMaxPointsPerPair], moved[kMaxPointsPerPair];
@@ -670,8 +716,8 @@ TEST(ContactGeometry, NormalAndPointsMatchFiniteDifferences) {
     }
   }
   EXPECT_GT(checked, 500);
-  for (int i = 0; i < 9; ++i)  // every pair type was exercised
-    EXPECT_GT(per_pair[int(cases[i].a.type)][int(cases[i].b.type)], 20) << "case " << i;
+  for (const PairCase& c : cases)  // every pair type was exercised
+    EXPECT_GT(per_pair[int(c.a.type)][int(c.b.type)], 20) << int(c.a.type) << "," << int(c.b.type);
   std::printf("collide FD: %d checks, max |error| / second-order bound = %.3g (|dt| = %.0e m)\n",
               checked, worst, h);
 }
@@ -709,4 +755,436 @@ TEST(ContactGeometry, AllocatesNothing) {
   std::vector<int> v(10);  // the counter itself works
   EXPECT_GT(nscd_test::allocationCount(), before);
   EXPECT_GT(total, 0);
+}
+
+// ------------------------------------------------------------------ ring pairs
+// Brute force: the ring (or arc) sampled at kSamples points, ends included.
+// For a gap that is a smooth function g(t) of the ring angle with |g''| <= G,
+// the lowest sample lies at most G (dt/2)^2 / 2 above the true minimum
+// (dt = span / (kSamples - 1)); each test states its G.
+
+namespace {
+
+constexpr int kSamples = 20000;
+
+struct RingFrame {
+  Vec3 c, e1, e2, n;
+  explicit RingFrame(const Pose& p)
+      : c(p.p), e1(p.rotate(Vec3::UnitX())), e2(p.rotate(Vec3::UnitY())), n(p.rotate(Vec3::UnitZ())) {}
+  Vec3 at(double r, double t) const { return c + r * (std::cos(t) * e1 + std::sin(t) * e2); }
+};
+
+// The point lies on the ring (radius r, frame f) within tol, at an angle of its arc.
+void expectOnArc(const Vec3& p, const Shape& s, const RingFrame& f, double tol) {
+  const Vec3 d = p - f.c;
+  EXPECT_NEAR(d.dot(f.n), 0.0, tol);
+  EXPECT_NEAR(d.norm(), s.radius, tol);
+  const double angle = std::atan2(d.dot(f.e2), d.dot(f.e1));
+  double rel = std::fmod(angle - s.start, 2 * kPi);
+  if (rel < 0) rel += 2 * kPi;
+  EXPECT_TRUE(rel <= s.span + 1e-9 || rel >= 2 * kPi - 1e-9)
+      << "angle " << angle << " outside start " << s.start << " span " << s.span;
+}
+
+// Lowest sample of g over the arc of s; writes its angle.
+template <class G>
+double bruteMin(const Shape& s, G g, double* argmin = nullptr) {
+  double best = 1e300, at = s.start;
+  for (int i = 0; i < kSamples; ++i) {
+    const double t = s.start + s.span * i / (kSamples - 1);
+    const double v = g(t);
+    if (v < best) {
+      best = v;
+      at = t;
+    }
+  }
+  if (argmin) *argmin = at;
+  return best;
+}
+
+double minGap(const ContactPoint* pts, int n) {
+  double g = 1e300;
+  for (int i = 0; i < n; ++i) g = std::min(g, pts[i].gap);
+  return g;
+}
+
+// A random arc: a full ring one time in three, else a random start and span.
+Shape randomRing(std::mt19937_64& rng, double r) {
+  if (uni(rng, 0, 1) < 1.0 / 3) return ring(r);
+  return ring(r, uni(rng, -kPi, kPi), uni(rng, 0.05, 2 * kPi));
+}
+
+}  // namespace
+
+// Ring against a plane at random poses (mm-scale rings): the lowest emitted gap
+// equals the brute-force minimum of the height over the arc. The height is
+// h0 + r rho cos(t - t0), so G = r and the sampling error is below
+// r dt^2 / 8 < 1e-10 m for r <= 6 mm; the routine may only be lower than the
+// samples (by round-off, 1e-15 m).
+TEST(ContactGeometry, RingPlaneAgainstBruteForce) {
+  std::mt19937_64 rng(101);
+  ContactPoint out[kMaxPointsPerPair];
+  int ends = 0, interior = 0;
+  for (int it = 0; it < 400; ++it) {
+    const double r = uni(rng, 0.3e-3, 6e-3);
+    const Shape s = randomRing(rng, r);
+    const Pose pb = at(Vec3(uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02)), randQuat(rng));
+    const Vec3 m = pb.rotate(Vec3::UnitZ());
+    const Pose pa = at(pb.p + uni(rng, -r, r) * m + uni(rng, -0.01, 0.01) * anyOrthogonal(m), randQuat(rng));
+    const RingFrame f(pa);
+    const double brute = bruteMin(s, [&](double t) { return m.dot(f.at(r, t) - pb.p); });
+    const int n = run(s, pa, plane(), pb, 1.0, out);
+    ASSERT_GE(n, 1);
+    const double dt = s.span / (kSamples - 1);
+    const double tol = r * dt * dt / 8 + 1e-15;
+    EXPECT_NEAR(minGap(out, n), brute, tol) << "it " << it;
+    EXPECT_LE(minGap(out, n), brute + 1e-15);
+    for (int i = 0; i < n; ++i) {
+      expectOnArc(out[i].point_a, s, f, 1e-15);
+      EXPECT_NEAR(m.dot(out[i].point_b - pb.p), 0.0, 1e-15);
+      expectVecNear(out[i].normal, m, 1e-15);
+      (out[i].feature == 0 ? interior : ends) += 1;
+    }
+  }
+  EXPECT_GT(interior, 100);
+  EXPECT_GT(ends, 100);
+}
+
+// Arc limits on a vertical ring (frame y = world z) over the plane z = 0: its
+// deepest point is at t = -pi/2.
+TEST(ContactGeometry, RingPlaneArcSpanLimits) {
+  const double r = 0.5e-3, h = 0.7e-3;
+  const Pose pa = at(Vec3(1e-3, 2e-3, h), rotAbout(Vec3::UnitX(), kPi / 2));
+  ContactPoint out[kMaxPointsPerPair];
+  // Full ring and the lower half: the deepest point, feature 0.
+  for (const Shape& s : {ring(r), ring(r, kPi, kPi)}) {
+    ASSERT_EQ(run(s, pa, plane(), Pose{}, 1.0, out), 1);
+    EXPECT_EQ(out[0].feature, 0);
+    EXPECT_NEAR(out[0].gap, h - r, kTol);
+    expectVecNear(out[0].point_a, Vec3(1e-3, 2e-3, h - r), kTol);
+  }
+  // Upper half: the deepest point is outside, both ends (features 1, 2) at height h.
+  ASSERT_EQ(run(ring(r, 0, kPi), pa, plane(), Pose{}, 1.0, out), 2);
+  EXPECT_EQ(out[0].feature, 1);
+  EXPECT_EQ(out[1].feature, 2);
+  expectVecNear(out[0].point_a, Vec3(1e-3 + r, 2e-3, h), kTol);
+  expectVecNear(out[1].point_a, Vec3(1e-3 - r, 2e-3, h), kTol);
+  EXPECT_NEAR(out[0].gap, h, kTol);
+  EXPECT_NEAR(out[1].gap, h, kTol);
+  // An arc starting 0.1 rad past the deepest point: its start is its lowest point.
+  ASSERT_EQ(run(ring(r, -kPi / 2 + 0.1, 1.0), pa, plane(), Pose{}, 1.0, out), 2);
+  EXPECT_NEAR(byFeature(out, 2, 1)->gap, h - r * std::cos(0.1), kTol);
+  EXPECT_NEAR(byFeature(out, 2, 2)->gap, h - r * std::cos(1.1), kTol);
+  // The margin drops the higher end.
+  ASSERT_EQ(run(ring(r, -kPi / 2 + 0.1, 1.0), pa, plane(), Pose{}, h - 0.5 * r, out), 1);
+  EXPECT_EQ(out[0].feature, 1);
+  // An arc ending exactly at the deepest point (start + span written in two
+  // roundings): still the deepest point, as feature 0 or as the arc's end.
+  ASSERT_GE(run(ring(r, -kPi / 2 - 1.0, 1.0), pa, plane(), Pose{}, 1.0, out), 1);
+  EXPECT_NEAR(minGap(out, 2), h - r, kTol);
+  // Parallel to the plane (frame z = world z): three points, all at height h.
+  const Pose flat = at(Vec3(0, 0, h));
+  ASSERT_EQ(run(ring(r), flat, plane(), Pose{}, 1.0, out), 3);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(out[i].feature, 3 + i);
+    EXPECT_NEAR(out[i].gap, h, kTol);
+  }
+  ASSERT_EQ(run(ring(r, 0.3, 1.0), flat, plane(), Pose{}, 1.0, out), 3);
+  expectVecNear(byFeature(out, 3, 1)->point_a, Vec3(r * std::cos(0.3), r * std::sin(0.3), h), kTol);
+  expectVecNear(byFeature(out, 3, 2)->point_a, Vec3(r * std::cos(1.3), r * std::sin(1.3), h), kTol);
+  expectVecNear(byFeature(out, 3, 3)->point_a, Vec3(r * std::cos(0.8), r * std::sin(0.8), h), kTol);
+}
+
+// Ring against a face at random poses: where the brute-force deepest point of
+// the arc has its foot inside the rectangle by more than 1 um, the routine gives
+// that gap (same tolerance as ring-plane) and a point within r dt of it; where
+// the foot is outside by more than 1 um, no point near it. Every emitted foot
+// lies in the closed rectangle.
+TEST(ContactGeometry, RingFaceAgainstBruteForce) {
+  std::mt19937_64 rng(102);
+  ContactPoint out[kMaxPointsPerPair];
+  int inside = 0, outside = 0;
+  for (int it = 0; it < 600; ++it) {
+    const double r = uni(rng, 0.3e-3, 3e-3);
+    const Shape s = randomRing(rng, r);
+    const double sx = uni(rng, 0.5e-3, 6e-3), sy = uni(rng, 0.5e-3, 6e-3);
+    const Pose pb = at(Vec3(uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02)), randQuat(rng));
+    const Vec3 m = pb.rotate(Vec3::UnitZ());
+    const Vec3 off = pb.rotate(Vec3(uni(rng, -0.5 * sx - r, 0.5 * sx + r), uni(rng, -0.5 * sy - r, 0.5 * sy + r), 0));
+    const Pose pa = at(pb.p + off + uni(rng, -r, r) * m, randQuat(rng));
+    const RingFrame f(pa);
+    double t0 = 0;
+    const double brute = bruteMin(s, [&](double t) { return m.dot(f.at(r, t) - pb.p); }, &t0);
+    const Vec3 deepest = f.at(r, t0);
+    const Vec3 foot = pb.q.conjugate() * (deepest - pb.p);
+    const double out_by = std::max(std::abs(foot.x()) - 0.5 * sx, std::abs(foot.y()) - 0.5 * sy);
+    const int n = run(s, pa, face(sx, sy), pb, 1.0, out);
+    for (int i = 0; i < n; ++i) {
+      expectOnArc(out[i].point_a, s, f, 1e-15);
+      const Vec3 l = pb.q.conjugate() * (out[i].point_b - pb.p);
+      EXPECT_NEAR(l.z(), 0.0, 1e-15);
+      EXPECT_LE(std::abs(l.x()), 0.5 * sx);
+      EXPECT_LE(std::abs(l.y()), 0.5 * sy);
+      expectVecNear(out[i].normal, m, 1e-15);
+      EXPECT_GE(out[i].gap, brute - 1e-10);
+    }
+    const double dt = s.span / (kSamples - 1);
+    const ContactPoint* near = nullptr;
+    for (int i = 0; i < n; ++i)
+      if ((out[i].point_a - deepest).norm() <= r * dt + 1e-12) near = &out[i];
+    if (out_by < -1e-6) {
+      ++inside;
+      ASSERT_TRUE(near) << "it " << it;
+      EXPECT_NEAR(near->gap, brute, r * dt * dt / 8 + 1e-15);
+    } else if (out_by > 1e-6) {
+      ++outside;
+      EXPECT_FALSE(near) << "it " << it;
+    }
+  }
+  EXPECT_GT(inside, 150);
+  EXPECT_GT(outside, 150);
+}
+
+// The edge rule: the foot of the deepest point exactly on an edge or corner
+// counts as on the face (closed rectangle); 1e-12 m beyond, no point.
+TEST(ContactGeometry, RingFaceEdgeRule) {
+  const double r = 0.5e-3, g = 0.01e-3;
+  const Quat vertical = rotAbout(Vec3::UnitX(), kPi / 2);  // deepest point straight below the centre
+  const Pose pb = at(Vec3(0, 0, 0));
+  ContactPoint out[kMaxPointsPerPair];
+  auto count = [&](double x, double y) {
+    return run(ring(r), at(Vec3(x, y, r + g), vertical), face(2e-3, 4e-3), pb, 1.0, out);
+  };
+  EXPECT_EQ(count(0, 0), 1);
+  EXPECT_NEAR(out[0].gap, g, kTol);
+  EXPECT_EQ(count(1e-3, 0), 1);      // on the x edge
+  EXPECT_EQ(count(-1e-3, 2e-3), 1);  // on a corner
+  EXPECT_EQ(count(1e-3 + 1e-12, 0), 0);
+  EXPECT_EQ(count(0, -2e-3 - 1e-12), 0);
+  // Beyond the edge the ring hangs over the face with its side, still no point.
+  EXPECT_EQ(count(1e-3 + 0.4e-3, 0), 0);
+  // Same on a turned, shifted face.
+  const Pose turned = at(Vec3(0.1, 0.2, 0.3), rotAbout(Vec3(0.3, -0.2, 1), 0.8));
+  const Vec3 m = turned.rotate(Vec3::UnitZ());
+  const Quat q = Quat::FromTwoVectors(Vec3::UnitZ(), m) * vertical;  // frame y = m: ring plane contains m
+  ASSERT_LT(std::abs(q.toRotationMatrix().col(2).dot(m)), 1e-12);
+  auto count2 = [&](double x) {
+    return run(ring(r), at(turned.apply(Vec3(x, 0, 0)) + (r + g) * m, q), face(2e-3, 4e-3), turned, 1.0, out);
+  };
+  EXPECT_EQ(count2(0.999e-3), 1);
+  EXPECT_NEAR(out[0].gap, g, 1e-15);
+  expectVecNear(out[0].point_b, turned.apply(Vec3(0.999e-3, 0, 0)), 1e-15);
+  EXPECT_EQ(count2(1.001e-3), 0);
+}
+
+// Ring beside a long full cylinder at random poses (parallel, perpendicular and
+// oblique axes): the lowest emitted gap equals the brute-force minimum of
+// |w(t)| - R over the arc (w: the ring point across the axis). With the ring
+// centre at least R + r/2 from the axis and r <= R, |w| >= R/2, so
+// |g''| <= r + r^2 / (R/2) = G and the sampling error is below G dt^2 / 8.
+TEST(ContactGeometry, RingCylinderAgainstBruteForce) {
+  std::mt19937_64 rng(103);
+  ContactPoint out[kMaxPointsPerPair];
+  int kinds[3] = {};
+  for (int it = 0; it < 600; ++it) {
+    const double R = uni(rng, 1e-3, 6e-3), r = uni(rng, 0.2, 1.0) * R;
+    const Shape s = randomRing(rng, r);
+    const Pose pb = at(Vec3(uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02)), randQuat(rng));
+    const Vec3 u = pb.rotate(Vec3::UnitZ());
+    const Vec3 dir = rotAbout(u, uni(rng, -kPi, kPi)) * anyOrthogonal(u);
+    const Vec3 c = pb.p + uni(rng, R + 0.5 * r, R + 1.5 * r) * dir + uni(rng, -0.01, 0.01) * u;
+    const int kind = it % 3;
+    Quat q;
+    if (kind == 0) q = pb.q * rotAbout(Vec3::UnitZ(), uni(rng, -kPi, kPi));  // parallel axes
+    else if (kind == 1) q = Quat::FromTwoVectors(Vec3::UnitZ(), rotAbout(u, uni(rng, -kPi, kPi)) * anyOrthogonal(u)) *
+                            rotAbout(Vec3::UnitZ(), uni(rng, -kPi, kPi));  // perpendicular
+    else q = randQuat(rng);
+    const Pose pa = at(c, q);
+    const RingFrame f(pa);
+    auto gapAt = [&](double t) {
+      const Vec3 w = f.at(r, t) - pb.p;
+      return (w - u.dot(w) * u).norm() - R;
+    };
+    const double brute = bruteMin(s, gapAt);
+    const int n = run(s, pa, cylinder(R, 1.0), pb, 1.0, out);
+    ASSERT_GE(n, 1) << "it " << it;
+    const double dt = s.span / (kSamples - 1);
+    const double G = r + r * r / (0.5 * R);
+    EXPECT_NEAR(minGap(out, n), brute, G * dt * dt / 8 + 1e-15) << "it " << it << " kind " << kind;
+    EXPECT_LE(minGap(out, n), brute + 1e-15);
+    for (int i = 0; i < n; ++i) {
+      expectOnArc(out[i].point_a, s, f, 1e-15);
+      const Vec3 wb = out[i].point_b - pb.p;
+      EXPECT_NEAR((wb - u.dot(wb) * u).norm(), R, 1e-15);  // on the lateral surface
+      EXPECT_NEAR(out[i].normal.dot(u), 0.0, 1e-14);
+      const Vec3 wa = out[i].point_a - pb.p;
+      expectVecNear(out[i].normal, (wa - u.dot(wa) * u).normalized(), 1e-12);
+    }
+    ++kinds[kind];
+  }
+  for (int k : kinds) EXPECT_EQ(k, 200);
+}
+
+// The cylinder's patch: length (closed) and angular span; two minima when a
+// perpendicular ring hoops around the axis.
+TEST(ContactGeometry, RingCylinderPatchLimits) {
+  ContactPoint out[kMaxPointsPerPair];
+  // Parallel axes: the ring (r 0.5) centred at x = 3 beside the cylinder R 2
+  // along z: nearest point (2.5, 0, z), gap 0.5, normal +x.
+  const Shape rg = ring(0.5);
+  ASSERT_EQ(run(rg, at(Vec3(3, 0, 0)), cylinder(2, 1), Pose{}, 1.0, out), 1);
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_NEAR(out[0].gap, 0.5, kTol);
+  expectVecNear(out[0].normal, Vec3::UnitX(), kTol);
+  expectVecNear(out[0].point_a, Vec3(2.5, 0, 0), kTol);
+  expectVecNear(out[0].point_b, Vec3(2, 0, 0), kTol);
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0.5)), cylinder(2, 1), Pose{}, 1.0, out), 1);  // at the end: kept
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0.5 + 1e-12)), cylinder(2, 1), Pose{}, 1.0, out), 0);
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0)), cylinderArc(2, 1, -0.1, 0.2), Pose{}, 1.0, out), 1);
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0)), cylinderArc(2, 1, 0.1, 0.2), Pose{}, 1.0, out), 0);
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0)), cylinderArc(2, 1, 0.1, 2 * kPi - 0.2), Pose{}, 1.0, out), 0);
+  EXPECT_EQ(run(rg, at(Vec3(3, 0, 0)), cylinderArc(2, 1, -kPi / 2, kPi / 2), Pose{}, 1.0, out), 1);  // end of the span
+  // The hook-arc case: the same at 100 deg round the axis, span 60 deg about it.
+  const Vec3 d100(std::cos(100 * kPi / 180), std::sin(100 * kPi / 180), 0);
+  ASSERT_EQ(run(rg, at(3 * d100), cylinderArc(2, 1, 70 * kPi / 180, 60 * kPi / 180), Pose{}, 1.0, out), 1);
+  expectVecNear(out[0].normal, d100, kTol);
+  // An arc of the ring facing away: its ends are its nearest points (1 and 2).
+  ASSERT_EQ(run(ring(0.5, -kPi / 2, kPi), at(Vec3(3, 0, 0)), cylinder(2, 1), Pose{}, 10.0, out), 2);
+  EXPECT_NEAR(byFeature(out, 2, 1)->gap, std::sqrt(9 + 0.25) - 2, kTol);
+  EXPECT_NEAR(byFeature(out, 2, 2)->gap, std::sqrt(9 + 0.25) - 2, kTol);
+  // Perpendicular: a ring of r 2 in the plane y = 1.5 (axis y) around the
+  // cylinder R 1 along z: |w| = sqrt(4 cos^2 t + 2.25), lowest at t = +-pi/2,
+  // the points (0, 1.5, +-2), gap 0.5, both with normal +y.
+  const Quat ringInXZ = rotAbout(Vec3::UnitX(), kPi / 2);  // frame y -> world z
+  ASSERT_EQ(run(ring(2), at(Vec3(0, 1.5, 0), ringInXZ), cylinder(1, 5), Pose{}, 1.0, out), 2);
+  const ContactPoint* f0 = byFeature(out, 2, 0);
+  const ContactPoint* f3 = byFeature(out, 2, 3);
+  ASSERT_TRUE(f0 && f3);
+  EXPECT_NEAR(f0->gap, 0.5, kTol);
+  EXPECT_NEAR(f3->gap, 0.5, kTol);
+  expectVecNear(f0->normal, Vec3::UnitY(), kTol);
+  expectVecNear(f0->point_a, Vec3(0, 1.5, 2), 1e-9);
+  expectVecNear(f3->point_a, Vec3(0, 1.5, -2), 1e-9);
+  // Cylinder only 3 long: both minima beyond its ends, no point; shifted up by
+  // 1, only the lower one (now at z = -1) is on it.
+  EXPECT_EQ(run(ring(2), at(Vec3(0, 1.5, 0), ringInXZ), cylinder(1, 3), Pose{}, 1.0, out), 0);
+  ASSERT_EQ(run(ring(2), at(Vec3(0, 1.5, 1), ringInXZ), cylinder(1, 3), Pose{}, 1.0, out), 1);
+  expectVecNear(out[0].point_a, Vec3(0, 1.5, -1), 1e-9);
+  EXPECT_NEAR(out[0].gap, 0.5, kTol);
+}
+
+// Swapped argument order for every ring pair, including arcs, faces off-centre
+// and limited cylinders: same points with A and B exchanged, normal flipped.
+TEST(ContactGeometry, RingPairsSwapped) {
+  std::mt19937_64 rng(104);
+  ContactPoint ab[kMaxPointsPerPair], ba[kMaxPointsPerPair];
+  int compared = 0;
+  for (int it = 0; it < 300; ++it) {
+    const Shape s = randomRing(rng, 1e-3);
+    const Pose pb = at(Vec3::Zero(), randQuat(rng));
+    const Pose pa = at(Vec3(uni(rng, -3e-3, 3e-3), uni(rng, -3e-3, 3e-3), uni(rng, -3e-3, 3e-3)), randQuat(rng));
+    const Shape others[3] = {plane(), face(3e-3, 2e-3), cylinderArc(1e-3, 4e-3, uni(rng, -kPi, kPi), uni(rng, 0.5, 2 * kPi))};
+    for (const Shape& b : others) {
+      const int n = run(s, pa, b, pb, 1.0, ab);
+      const int m = run(b, pb, s, pa, 1.0, ba);
+      ASSERT_EQ(n, m);
+      for (int i = 0; i < n; ++i) {
+        EXPECT_EQ(ba[i].feature, ab[i].feature);
+        EXPECT_EQ(ba[i].gap, ab[i].gap);
+        EXPECT_EQ(ba[i].normal, Vec3(-ab[i].normal));
+        EXPECT_EQ(ba[i].point_a, ab[i].point_b);
+        EXPECT_EQ(ba[i].point_b, ab[i].point_a);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 300);
+}
+
+// A cylinder limited to an arc against a plane: its two end rims as arcs.
+TEST(ContactGeometry, CylinderArcPlane) {
+  ContactPoint out[kMaxPointsPerPair];
+  // Axis along x, 0.4 above the plane, radius 0.3, length 1. Frame: z -> x.
+  const Quat alongX = rotAbout(Vec3::UnitY(), kPi / 2);  // frame x -> -z, frame y -> y
+  const Pose pa = at(Vec3(0, 0, 0.4), alongX);
+  // Full: the existing line contact (two rim points, gap 0.1).
+  ASSERT_EQ(run(cylinder(0.3, 1), pa, plane(), Pose{}, 1.0, out), 2);
+  EXPECT_NEAR(minGap(out, 2), 0.1, kTol);
+  // Arc containing the bottom (frame +x = world -z): same two points, features 0 and 4.
+  ASSERT_EQ(run(cylinderArc(0.3, 1, -0.5, 1.0), pa, plane(), Pose{}, 1.0, out), 2);
+  EXPECT_NEAR(byFeature(out, 2, 0)->gap, 0.1, kTol);
+  EXPECT_NEAR(byFeature(out, 2, 4)->gap, 0.1, kTol);
+  // Arc on the top, start pi/2 + 0.2, span pi - 0.4 (height 0.4 - 0.3 cos t):
+  // the deepest point is outside, the four arc ends at 0.4 + 0.3 sin 0.2.
+  const double s0 = kPi / 2 + 0.2, sp = kPi - 0.4;
+  ASSERT_EQ(run(cylinderArc(0.3, 1, s0, sp), pa, plane(), Pose{}, 1.0, out), 4);
+  for (int f : {1, 2, 5, 6}) {
+    const ContactPoint* p = byFeature(out, 4, f);
+    ASSERT_TRUE(p) << f;
+    EXPECT_NEAR(p->gap, 0.4 + 0.3 * std::sin(0.2), kTol) << f;
+  }
+}
+
+// Three C-60 contacts at the ON state, from the CAD tables
+// (/work/shared/c60/cad/contacts_cad.json; world frame, mm, inputs rounded to
+// 1e-4 mm): the pairs reproduce the CAD distance (gap before the authors'
+// offset) within 3e-4 mm and its points within 3e-3 mm.
+namespace {
+// The frame at o whose z is `z` and x is `x` (made orthogonal to z).
+Pose frameAt(const Vec3& o, const Vec3& z, const Vec3& x) {
+  const Vec3 zn = z.normalized();
+  const Vec3 xn = (x - x.dot(zn) * zn).normalized();
+  Mat3 r;
+  r.col(0) = xn;
+  r.col(1) = zn.cross(xn);
+  r.col(2) = zn;
+  return Pose{o, Quat(r)};
+}
+double deg(double d) { return d * kPi / 180; }
+}  // namespace
+
+TEST(ContactGeometry, C60CadContactsAtOn) {
+  ContactPoint out[kMaxPointsPerPair];
+  // C4_1: the hook's vertical half-ring r 0.5 (its middle towards the seat)
+  // on the bar's seat F4, a 0.59013 x 3 face whose outward normal is
+  // (-0.5878, 0.809, 0). CAD distance 0.009111.
+  {
+    const Vec3 c(2.4093, 5.6963, 7.1), mid = (Vec3(2.7122, 5.2984, 7.1) - c).normalized();
+    const Pose ringPose = frameAt(c, Vec3(-0.7957, -0.6056, 0), mid);
+    const Vec3 n(-0.5878, 0.809, 0);
+    const Pose seat = frameAt(Vec3(2.7602, 5.3221, 8.1), n, Vec3(0, 0, 1).cross(n));
+    ASSERT_EQ(run(ring(0.5, -kPi / 2, kPi), ringPose, face(0.59013, 3.0), seat, 1.0, out), 1);
+    std::printf("[ figures  ] C4_1 at ON: distance %.6f mm (CAD 0.009111)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.009111, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(2.7122, 5.2984, 7.1), 3e-3);
+    expectVecNear(out[0].point_b, Vec3(2.7175, 5.2911, 7.1), 3e-3);
+  }
+  // C5_1: the bar's half-ring r 0.48, 130.75 deg about its middle, outside the
+  // hook's arc r 5.63 about J3, 3 long, at world angles 156.07..204.97 deg.
+  // CAD distance 0.029465.
+  {
+    const Vec3 c(2.1612, 5.1341, 7.4), mid = Vec3(2.5495, 5.4162, 7.4) - c;
+    const double a = std::atan2(mid.y(), mid.x()), sp = deg(130.75);
+    const Pose hook = at(Vec3(7.767, 7.6377, 8.1));
+    ASSERT_EQ(run(ring(0.48, a - sp / 2, sp), at(c), cylinderArc(5.63, 3.0, deg(156.07), deg(48.9)), hook, 1.0, out), 1);
+    std::printf("[ figures  ] C5_1 at ON: distance %.6f mm (CAD 0.029465)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.029465, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(2.5995, 5.3298, 7.4), 3e-3);
+    expectVecNear(out[0].point_b, Vec3(2.6264, 5.3418, 7.4), 3e-3);
+    // The contact lies at 204.07 deg about J3, 0.9 deg inside the arc's end: an
+    // arc ending at 203 deg gives no point.
+    EXPECT_EQ(run(ring(0.48, a - sp / 2, sp), at(c), cylinderArc(5.63, 3.0, deg(154.1), deg(48.9)), hook, 1.0, out), 0);
+  }
+  // TRIP_2: the bar's arc r 6.0 (53.18 deg about 179.47 deg) against the
+  // probe's flat end, the face x = -5.0 of 6.17522 x 6.20044 facing +x.
+  // CAD distance 0.389133.
+  {
+    const double sp = deg(53.18), a = std::atan2(-9.0045 + 9.0596, -4.6106 - 1.3891);
+    const Pose probe = frameAt(Vec3(-5.0, -8.9, 4.65), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    ASSERT_EQ(run(ring(6.0, a - sp / 2, sp), at(Vec3(1.3891, -9.0596, 5.9)), face(6.17522, 6.20044), probe, 1.0, out), 1);
+    std::printf("[ figures  ] TRIP_2 at ON: distance %.6f mm (CAD 0.389133)\n", out[0].gap);
+    EXPECT_NEAR(out[0].gap, 0.389133, 3e-4);
+    expectVecNear(out[0].point_a, Vec3(-4.6109, -9.0596, 5.9), 3e-3);
+    expectVecNear(out[0].normal, Vec3(1, 0, 0), 1e-12);
+  }
 }

@@ -87,6 +87,41 @@ TEST(Physics, BlockSlidesAboveFrictionAngle) {
   EXPECT_LT(std::abs(sim.contactGap(0)), 1e-8);
 }
 
+// A disc whose rim is a `ring` rolls down a 20 degree `face` (mu 0.5, enough to
+// roll without slipping): a = g sin(alpha) / (1 + I/(m r^2)) = 2/3 g sin(alpha)
+// along the slope (within 1%), omega = v / r (within 1%), normal force m g
+// cos(alpha) (within 1%). Once the rim's lowest point has passed the face's
+// lower edge the face gives no point any more: the disc falls freely (a = -g
+// within 1%).
+TEST(Physics, RingRollsDownFaceAndFallsOffItsEdge) {
+  const double r = 0.01, alpha = 20 * M_PI / 180, len = 0.2, g = 9.81, m = 0.1;
+  Simulator sim = makeSim(ringOnFaceScene(r, alpha, len, 0.05, 0.5, 1e-4));
+  const Vec3 down(-std::cos(alpha), -std::sin(alpha), 0);
+  for (int k = 0; k < 500; ++k) ASSERT_EQ(sim.step(), StepStatus::Ok);
+  const double v1 = sim.state().bodies[0].v.dot(down), t1 = sim.state().t;
+  for (int k = 0; k < 2000; ++k) ASSERT_EQ(sim.step(), StepStatus::Ok);
+  const double v2 = sim.state().bodies[0].v.dot(down), t2 = sim.state().t;
+  const double a = (v2 - v1) / (t2 - t1), expected = 2.0 / 3.0 * g * std::sin(alpha);
+  std::printf("[ figures  ] ring on face: a = %.5f m/s^2 (expected %.5f), omega r / v = %.5f\n", a, expected,
+              sim.angularVelocityWorld(0).z() * r / v2);
+  EXPECT_NEAR(a, expected, 0.01 * expected);
+  EXPECT_NEAR(sim.angularVelocityWorld(0).z() * r, v2, 0.01 * v2);  // rolling: anticlockwise going left
+  EXPECT_NEAR(sim.contactNormalForce(0), m * g * std::cos(alpha), 0.01 * m * g);
+  EXPECT_LT(std::abs(sim.contactGap(0)), 1e-8);
+  // Roll on until the lowest rim point is 2 mm past the lower edge (s = -len/2).
+  const Vec3 along(std::cos(alpha), std::sin(alpha), 0);
+  auto slopeCoord = [&] { return sim.state().bodies[0].x.dot(along); };
+  while (slopeCoord() > -0.5 * len - 0.002) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    ASSERT_LT(sim.state().t, 2.0);
+  }
+  const double vy1 = sim.state().bodies[0].v.y(), ty1 = sim.state().t;
+  for (int k = 0; k < 200; ++k) ASSERT_EQ(sim.step(), StepStatus::Ok);
+  const double ay = (sim.state().bodies[0].v.y() - vy1) / (sim.state().t - ty1);
+  EXPECT_NEAR(ay, -g, 0.01 * g);
+  EXPECT_EQ(sim.contactNormalForce(0), 0.0);
+}
+
 // An ideal revolute pendulum released from 30 degrees has the exact large-amplitude
 // period T = 4 sqrt(I_O / (m g l)) K(sin(theta0/2)) (within 0.5%).
 TEST(Physics, PendulumLargeAmplitudePeriod) {

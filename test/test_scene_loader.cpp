@@ -318,6 +318,42 @@ TEST(SceneLoader, EveryDemoSceneLoads) {
 
 // ------------------------------------------------------------------ frames and conversions
 
+// The contact shapes of CAD edge-face contacts: ring (full and arc), face, and a
+// cylinder limited to an arc; the defaults of start and span.
+TEST(SceneLoader, RingFaceAndCylinderArcShapes) {
+  const std::string xml = std::string(kHead) + R"(
+  <joint name="bj" type="floating"><parent link="world"/><child link="b"/></joint>
+  <nscd>
+    <contact name="full"><shape link="b" type="ring" radius="0.5e-3"/>
+      <shape link="world" type="face" size="6.2e-3 4e-3"><origin xyz="0 0 -1e-3"/></shape></contact>
+    <contact name="half"><shape link="world" type="plane"/>
+      <shape link="b" type="ring" radius="0.48e-3" start="-1.5707963" span="3.14159265"/></contact>
+    <contact name="arc"><shape link="b" type="ring" radius="0.48e-3" span="6.283185307179586"/>
+      <shape link="world" type="cylinder" radius="5.63e-3" length="4e-3" start="0.2" span="1.1"/></contact>
+  </nscd>
+</robot>)";
+  const Model m = loadSceneFromString(xml, "rings");
+  ASSERT_EQ(m.contacts.size(), 3u);
+  const ContactPair& full = m.contacts[0];
+  EXPECT_EQ(full.a.type, ShapeType::Ring);
+  EXPECT_DOUBLE_EQ(full.a.radius, 0.5e-3);
+  EXPECT_DOUBLE_EQ(full.a.start, 0.0);
+  EXPECT_DOUBLE_EQ(full.a.span, 2 * kPi);
+  EXPECT_EQ(full.b.type, ShapeType::Face);
+  EXPECT_LT((full.b.half_extents - Vec3(3.1e-3, 2e-3, 0)).norm(), kTight);
+  EXPECT_LT((full.b.pose.p - Vec3(0, 0, -1e-3)).norm(), kTight);
+  const ContactPair& half = m.contacts[1];
+  EXPECT_EQ(half.b.type, ShapeType::Ring);
+  EXPECT_DOUBLE_EQ(half.b.start, -1.5707963);
+  EXPECT_DOUBLE_EQ(half.b.span, 3.14159265);
+  const ContactPair& arc = m.contacts[2];
+  EXPECT_DOUBLE_EQ(arc.a.span, 2 * kPi);
+  EXPECT_EQ(arc.b.type, ShapeType::Cylinder);
+  EXPECT_DOUBLE_EQ(arc.b.start, 0.2);
+  EXPECT_DOUBLE_EQ(arc.b.span, 1.1);
+  EXPECT_DOUBLE_EQ(arc.b.length, 4e-3);
+}
+
 // rpy in <nscd> origins follows the URDF convention: compare with urdfdom's reading of
 // the same rpy in a fixed joint.
 TEST(SceneLoader, NscdOriginRpyMatchesUrdfConvention) {
@@ -508,6 +544,8 @@ const BadCase kBad[] = {
     {"18_unsupported_shape_pair.urdf", 26, "cylinder-cylinder pairs are not supported"},
     {"19_massless_link_on_revolute.urdf", 6, "has no <inertial>"},
     {"20_initial_unknown_joint.urdf", 19, "unknown joint 'hinj'"},
+    {"21_ring_span_too_large.urdf", 18, "attribute 'span' of <shape> must be in (0, 6.28"},
+    {"22_face_size_one_number.urdf", 19, "attribute 'size' of <shape> type 'face': expected 2 numbers, got '0.2'"},
 };
 
 TEST(SceneLoaderBad, EachBadSceneIsRefusedWithFileLineAndReason) {
@@ -590,6 +628,20 @@ TEST(SceneLoaderBad, MoreRefusals) {
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="capsule" radius="0.1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "missing attribute 'length'"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="sphere" radius="abc"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "'abc' is not a number"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="sphere" radius="inf"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "not finite"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'radius' of <shape> must be > 0"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "missing attribute 'radius'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" span="0"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'span' of <shape> must be in (0, "},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" span="-1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'span' of <shape> must be in (0, "},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" start="nan"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'start' of <shape>: 'nan' is not a number"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" length="1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "unknown attribute 'length'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="cylinder" radius="0.1" length="1" span="6.3"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'span' of <shape> must be in (0, "},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 0"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'size' of <shape> type 'face' must be 2 numbers > 0"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 2 3"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "expected 2 numbers, got '1 2 3'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 x"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "'x' is not a number"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "missing attribute 'size'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 1" radius="1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "unknown attribute 'radius'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="sphere" radius="0.1" span="1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "unknown attribute 'span'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="sphere" radius="0.1"/><shape link="world" type="face" size="1 1"/></contact></nscd>)" + tail, "sphere-face pairs are not supported (supported: "},
       {std::string(kHead) + fl + R"(<nscd><contact name="c" mu="-1">)" + sph + R"(</contact></nscd>)" + tail, "'mu' of <contact>"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c" e="2">)" + sph + R"(</contact></nscd>)" + tail, "'e' of <contact>"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c" colour="red">)" + sph + R"(</contact></nscd>)" + tail, "unknown attribute 'colour'"},

@@ -88,17 +88,22 @@ struct ClearanceJoint {
   SourceRef src;
 };
 
-enum class ShapeType { Sphere, Capsule, Cylinder, Box, Plane };
+enum class ShapeType { Sphere, Capsule, Cylinder, Box, Plane, Ring, Face };
 
 // A contact shape fixed to a body. Its frame (pose, in the body frame) gives the
-// axis (z) of capsules and cylinders and the outward normal (+z) of planes.
+// axis (z) of capsules, cylinders and rings and the outward normal (+z) of
+// planes and faces.
 struct Shape {
   ShapeType type = ShapeType::Sphere;
   int body = kGround;
   Pose pose;
-  double radius = 0;                    // sphere, capsule, cylinder
+  double radius = 0;                    // sphere, capsule, cylinder, ring
   double length = 0;                    // capsule, cylinder (along z, centred)
-  Vec3 half_extents = Vec3::Zero();     // box
+  Vec3 half_extents = Vec3::Zero();     // box; face: (sx/2, sy/2, 0)
+  // Ring: the arc of the circle kept; cylinder: the angular extent of its
+  // lateral surface. Angles (rad) from the frame's +x about +z; start + [0, span].
+  double start = 0;
+  double span = 6.283185307179586;      // 2 pi: the full circle
 };
 
 // A named <nscd><contact>: one shape pair, possibly several contact points.

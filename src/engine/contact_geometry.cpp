@@ -1,8 +1,9 @@
 // Narrow phase: contact points between pairs of primitive shapes.
 //
-// Each pair routine takes its shapes in a canonical order (sphere < capsule <
-// cylinder < box < plane); collide() swaps the arguments when needed and flips
-// the results back. Every point is "a point fixed in one shape against the
+// Each pair routine takes its shapes in a canonical order (ring < sphere <
+// capsule < cylinder < box < plane < face); collide() swaps the arguments when
+// needed and flips the results back. The ring pairs live in files of their own
+// (ring_*_pair.cpp, declared in shape_pairs.hpp); this file dispatches. Every point is "a point fixed in one shape against the
 // nearest point of the other", so normal and points give the exact first-order
 // change of the gap under rigid motions (the engine builds Jacobian rows from
 // them).
@@ -12,18 +13,22 @@
 #include <cmath>
 #include <utility>
 
+#include "shape_pairs.hpp"
+
 namespace nscd {
 namespace {
 
 int typeRank(ShapeType t) {
   switch (t) {
-    case ShapeType::Sphere: return 0;
-    case ShapeType::Capsule: return 1;
-    case ShapeType::Cylinder: return 2;
-    case ShapeType::Box: return 3;
-    case ShapeType::Plane: return 4;
+    case ShapeType::Ring: return 0;
+    case ShapeType::Sphere: return 1;
+    case ShapeType::Capsule: return 2;
+    case ShapeType::Cylinder: return 3;
+    case ShapeType::Box: return 4;
+    case ShapeType::Plane: return 5;
+    case ShapeType::Face: return 6;
   }
-  return 5;
+  return 7;
 }
 
 double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
@@ -249,6 +254,17 @@ int cylinderPlane(const Shape& a, const Pose& pa, const Shape&, const Pose& pb, 
   const Vec3 u = axisZ(pa);
   const Vec3 m = axisZ(pb);
   const double h = 0.5 * a.length;
+  if (!pairs::fullCircle(a.span)) {
+    // Lateral surface limited to an arc: its lowest points lie on the two end
+    // rims, each an arc against the plane (ring_plane_pair.cpp); features 0-3
+    // for the rim at -length/2, 4-7 for the one at +length/2.
+    const Vec3 x = pa.rotate(Vec3::UnitX()), y = pa.rotate(Vec3::UnitY());
+    int n = 0;
+    for (int k = 0; k < 2; ++k)
+      n = pairs::arcAgainstPlane(pa.p + (k == 0 ? -h : h) * u, x, y, a.radius, a.start, a.span, m,
+                                 pb.p, nullptr, 0, 0, 4 * k, margin, out, n);
+    return n;
+  }
   const Vec3 perp = m - m.dot(u) * u;
   const double pn = perp.norm();
   int n = 0;
@@ -289,6 +305,11 @@ PairFn pairFunction(ShapeType a, ShapeType b) {
   }
   if (a == T::Box && b == T::Plane) return boxPlane;
   if (a == T::Cylinder && b == T::Plane) return cylinderPlane;
+  if (a == T::Ring) {
+    if (b == T::Plane) return pairs::ringPlane;
+    if (b == T::Face) return pairs::ringFace;
+    if (b == T::Cylinder) return pairs::ringCylinder;
+  }
   return nullptr;
 }
 

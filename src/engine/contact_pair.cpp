@@ -18,6 +18,8 @@ double shapeReach(const Shape& sh) {
     case ShapeType::Cylinder: ext = std::hypot(sh.radius, 0.5 * sh.length); break;
     case ShapeType::Box: ext = sh.half_extents.norm(); break;
     case ShapeType::Plane: ext = 0; break;
+    case ShapeType::Ring: ext = sh.radius; break;
+    case ShapeType::Face: ext = sh.half_extents.norm(); break;
   }
   return sh.pose.p.norm() + ext;
 }

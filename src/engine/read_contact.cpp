@@ -1,4 +1,8 @@
 // <contact>: a named pair of shapes, each on a link, with friction and restitution.
+#include <algorithm>
+#include <sstream>
+#include <vector>
+
 #include "nscd_sim/contact_geometry.hpp"
 #include "scene_build.hpp"
 
@@ -14,8 +18,35 @@ const char* shapeName(ShapeType t) {
     case ShapeType::Cylinder: return "cylinder";
     case ShapeType::Box: return "box";
     case ShapeType::Plane: return "plane";
+    case ShapeType::Ring: return "ring";
+    case ShapeType::Face: return "face";
   }
   return "?";
+}
+
+constexpr double kTwoPi = 6.283185307179586;
+
+// Optional `start` and `span` (rad) of a ring or cylinder: span in (0, 2 pi]
+// (a value that rounds 2 pi up by 1e-9 relative is taken as 2 pi).
+void readArc(SceneBuild& sb, const XMLElement* e, Shape& s) {
+  s.start = optNumber(sb.c, e, "start", 0);
+  s.span = optNumber(sb.c, e, "span", kTwoPi);
+  requireRange(sb.c, e, "span", s.span, 0, true, kTwoPi * (1 + 1e-9), false);
+  s.span = std::min(s.span, kTwoPi);
+}
+
+// `size="sx sy"` of a face: two numbers > 0.
+Vec3 readFaceHalfSize(SceneBuild& sb, const XMLElement* e) {
+  const std::string v = reqString(sb.c, e, "size");
+  std::istringstream in(v);
+  std::vector<std::string> parts;
+  for (std::string w; in >> w;) parts.push_back(w);
+  if (parts.size() != 2)
+    sb.c.fail(e->GetLineNum(), "attribute 'size' of <shape> type 'face': expected 2 numbers, got " + squote(v));
+  const double sx = toNumber(sb.c, e, "size", parts[0]), sy = toNumber(sb.c, e, "size", parts[1]);
+  if (!(sx > 0 && sy > 0))
+    sb.c.fail(e->GetLineNum(), "attribute 'size' of <shape> type 'face' must be 2 numbers > 0, got " + squote(v));
+  return Vec3(0.5 * sx, 0.5 * sy, 0);
 }
 
 Shape readShape(SceneBuild& sb, const XMLElement* e) {
@@ -31,6 +62,7 @@ Shape readShape(SceneBuild& sb, const XMLElement* e) {
     s.type = type == "capsule" ? ShapeType::Capsule : ShapeType::Cylinder;
     s.length = reqNumber(sb.c, e, "length");
     requireRange(sb.c, e, "length", s.length, 0, true, kInf, false);
+    if (s.type == ShapeType::Cylinder) readArc(sb, e, s);
   } else if (type == "box") {
     checkAttributes(sb.c, e, vocabularyOf("shape", "box").attributes);
     s.type = ShapeType::Box;
@@ -41,10 +73,19 @@ Shape readShape(SceneBuild& sb, const XMLElement* e) {
   } else if (type == "plane") {
     checkAttributes(sb.c, e, vocabularyOf("shape", "plane").attributes);
     s.type = ShapeType::Plane;
+  } else if (type == "ring") {
+    checkAttributes(sb.c, e, vocabularyOf("shape", "ring").attributes);
+    s.type = ShapeType::Ring;
+    readArc(sb, e, s);
+  } else if (type == "face") {
+    checkAttributes(sb.c, e, vocabularyOf("shape", "face").attributes);
+    s.type = ShapeType::Face;
+    s.half_extents = readFaceHalfSize(sb, e);
   } else {
-    sb.c.fail(e->GetLineNum(), "unknown shape type " + squote(type) + " (sphere, capsule, cylinder, box, plane)");
+    sb.c.fail(e->GetLineNum(), "unknown shape type " + squote(type) + " (sphere, capsule, cylinder, box, plane, ring, face)");
   }
-  if (s.type == ShapeType::Sphere || s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder) {
+  if (s.type == ShapeType::Sphere || s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder ||
+      s.type == ShapeType::Ring) {
     s.radius = reqNumber(sb.c, e, "radius");
     requireRange(sb.c, e, "radius", s.radius, 0, true, kInf, false);
   }
@@ -77,9 +118,11 @@ void readContact(SceneBuild& sb, const XMLElement* e) {
                                  (cp.a.body == kGround ? std::string("ground") : "body " + squote(sb.m.bodies[cp.a.body].name)));
   if (!shapePairSupported(cp.a.type, cp.b.type)) {
     std::string list;
-    const ShapeType all[] = {ShapeType::Sphere, ShapeType::Capsule, ShapeType::Cylinder, ShapeType::Box, ShapeType::Plane};
-    for (int i = 0; i < 5; ++i)
-      for (int k = i; k < 5; ++k)
+    const ShapeType all[] = {ShapeType::Sphere, ShapeType::Capsule, ShapeType::Cylinder, ShapeType::Box,
+                             ShapeType::Plane, ShapeType::Ring, ShapeType::Face};
+    const int count = sizeof(all) / sizeof(all[0]);
+    for (int i = 0; i < count; ++i)
+      for (int k = i; k < count; ++k)
         if (shapePairSupported(all[i], all[k]))
           list += (list.empty() ? "" : ", ") + std::string(shapeName(all[i])) + "-" + shapeName(all[k]);
     sb.c.fail(e->GetLineNum(), "contact " + squote(cp.name) + ": " + shapeName(cp.a.type) + "-" + shapeName(cp.b.type) +

@@ -1,0 +1,194 @@
+// Ring (or arc) outside the lateral surface of a cylinder (B, convex: the ring
+// is kept out of it). The cylinder's axis may make any angle with the ring's.
+//
+// Seen across the cylinder axis u (through o), the ring point at angle t is
+//   w(t) = perp(c - o) + r cos t perp(e1) + r sin t perp(e2),  perp(v) = v - (u.v) u,
+// an ellipse (a circle when the axes are parallel, a segment when they are
+// perpendicular), and the gap of that point is |w(t)| - R. Its minima over the
+// arc are found by sampling f(t) = |w(t)|^2 (a trigonometric polynomial of
+// degree 2: at most two local minima on the full circle, plus the arc's ends)
+// on 64 cells per turn, then refining every discrete local minimum by golden
+// section in its two cells and Newton on f'. Each minimum is a contact point
+// when it lies on the cylinder's patch: its axial coordinate within +-length/2
+// and its direction from the axis within the cylinder's start + [0, span]
+// (both closed). Two minima within 1e-9 rad are one.
+//
+// Features: an interior minimum 0 (a second one, e.g. a ring straddling the
+// axis of a perpendicular cylinder, 3, a third 4...; counted from the ring's
+// start angle, so they keep their ids while no minimum crosses it), the arc's
+// start 1, its end 2.
+//
+// Not handled: the cylinder's flat ends, a ring inside a hollow cylinder (the
+// clearance joints do that), two minima closer than about one cell (1/64 turn)
+// in angle, which the sampling may merge into one.
+#include <algorithm>
+
+#include "shape_pairs.hpp"
+
+namespace nscd {
+namespace pairs {
+
+namespace {
+
+constexpr int kCellsPerTurn = 64;
+constexpr int kMaxCandidates = 6;
+
+struct RingAcrossAxis {
+  Vec3 w0, w1, w2;  // w(t) = w0 + cos t w1 + sin t w2
+  double f(double t) const { return (w0 + std::cos(t) * w1 + std::sin(t) * w2).squaredNorm(); }
+  void derivatives(double t, double& d1, double& d2) const {
+    const double ct = std::cos(t), st = std::sin(t);
+    const Vec3 w = w0 + ct * w1 + st * w2;
+    const Vec3 wp = -st * w1 + ct * w2;
+    const Vec3 wpp = -ct * w1 - st * w2;
+    d1 = 2 * w.dot(wp);
+    d2 = 2 * (wp.squaredNorm() + w.dot(wpp));
+  }
+};
+
+// The minimiser of f on [lo, hi]: golden section down to ~1e-9 rad, the ends
+// if lower, then Newton steps on f' kept only while inside and |f'| drops.
+double minimiseOn(const RingAcrossAxis& g, double lo, double hi) {
+  const double kG = 0.6180339887498949;
+  double a = lo, b = hi;
+  double x1 = b - kG * (b - a), x2 = a + kG * (b - a);
+  double f1 = g.f(x1), f2 = g.f(x2);
+  for (int it = 0; it < 40; ++it) {
+    if (f1 <= f2) {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - kG * (b - a);
+      f1 = g.f(x1);
+    } else {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + kG * (b - a);
+      f2 = g.f(x2);
+    }
+  }
+  double t = f1 <= f2 ? x1 : x2;
+  double ft = std::min(f1, f2);  // only to compare with the ends
+  const double flo = g.f(lo), fhi = g.f(hi);
+  if (flo <= ft) {
+    t = lo;
+    ft = flo;
+  }
+  if (fhi < ft) {
+    t = hi;
+    ft = fhi;
+  }
+  if (t == lo || t == hi) return t;
+  // Near the minimum f is flat to round-off: judge the steps by |f'|.
+  double d1 = 0, d2 = 0;
+  g.derivatives(t, d1, d2);
+  for (int it = 0; it < 4 && d1 != 0; ++it) {
+    if (!(d2 > 0)) break;
+    const double tn = t - d1 / d2;
+    if (!(tn > lo && tn < hi)) break;
+    double n1 = 0, n2 = 0;
+    g.derivatives(tn, n1, n2);
+    if (!(std::abs(n1) < std::abs(d1))) break;
+    t = tn;
+    d1 = n1;
+    d2 = n2;
+  }
+  return t;
+}
+
+}  // namespace
+
+int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
+                 ContactPoint* out) {
+  const Vec3 u = axisZ(pb), o = pb.p;
+  const Vec3 e1 = pa.rotate(Vec3::UnitX()), e2 = pa.rotate(Vec3::UnitY());
+  const double r = a.radius, R = b.radius;
+  auto perp = [&u](const Vec3& v) { return Vec3(v - u.dot(v) * u); };
+  const RingAcrossAxis g{perp(pa.p - o), r * perp(e1), r * perp(e2)};
+
+  const bool full = fullCircle(a.span);
+  const double span = full ? kTwoPi : a.span;
+  const int cells =
+      full ? kCellsPerTurn
+           : std::max(8, static_cast<int>(std::ceil(kCellsPerTurn * span / kTwoPi)));
+  const int samples = full ? cells : cells + 1;
+  const double step = span / cells;
+  double fv[kCellsPerTurn + 1];
+  {
+    // Sample by rotating (cos, sin) with a fixed step: no sin/cos per sample.
+    const double cs = std::cos(step), sn = std::sin(step);
+    double ct = std::cos(a.start), st = std::sin(a.start);
+    for (int i = 0; i < samples; ++i) {
+      fv[i] = (g.w0 + ct * g.w1 + st * g.w2).squaredNorm();
+      const double c2 = ct * cs - st * sn;
+      st = st * cs + ct * sn;
+      ct = c2;
+    }
+  }
+  int best = 0;
+  for (int i = 1; i < samples; ++i)
+    if (fv[i] < fv[best]) best = i;
+
+  double cand_t[kMaxCandidates];
+  int cand_feature[kMaxCandidates];
+  int nc = 0, interior = 0;
+  for (int i = 0; i < samples && nc < kMaxCandidates; ++i) {
+    bool local_min;
+    if (full) local_min = fv[i] < fv[(i + samples - 1) % samples] && fv[i] <= fv[(i + 1) % samples];
+    else if (i == 0) local_min = fv[0] <= fv[1];
+    else if (i == samples - 1) local_min = fv[i] < fv[i - 1];
+    else local_min = fv[i] < fv[i - 1] && fv[i] <= fv[i + 1];
+    if (!local_min && i != best) continue;
+    const double lo = (full || i > 0) ? a.start + (i - 1) * step : a.start;
+    const double hi = (full || i < samples - 1) ? a.start + (i + 1) * step : a.start + span;
+    double t = minimiseOn(g, lo, hi);
+    int feature;
+    if (!full && t <= a.start) {
+      t = a.start;
+      feature = 1;
+    } else if (!full && t >= a.start + span) {
+      t = a.start + span;
+      feature = 2;
+    } else {
+      feature = -1;  // numbered below, once known to be new
+    }
+    bool seen = false;
+    for (int k = 0; k < nc; ++k) {
+      double d = std::fmod(std::abs(t - cand_t[k]), kTwoPi);
+      d = std::min(d, kTwoPi - d);
+      seen = seen || d < 1e-9;
+    }
+    if (seen) continue;
+    if (feature < 0) feature = interior == 0 ? 0 : 2 + interior;
+    if (feature == 0 || feature > 2) ++interior;
+    cand_t[nc] = t;
+    cand_feature[nc] = feature;
+    ++nc;
+  }
+
+  int n = 0;
+  const double half = 0.5 * b.length;
+  for (int k = 0; k < nc; ++k) {
+    const double t = cand_t[k];
+    const Vec3 p = pa.p + r * (std::cos(t) * e1 + std::sin(t) * e2);
+    const Vec3 rel = p - o;
+    const double along = u.dot(rel);
+    if (!(std::abs(along) <= half)) continue;
+    const Vec3 radial = rel - along * u;
+    const double d = radial.norm();
+    // On the axis (to round-off) the direction is noise: any normal to it.
+    const double tiny = 1e-14 * (rel.norm() + R + r);
+    const Vec3 normal = d > tiny ? Vec3(radial / d) : anyOrthogonal(u);
+    if (!fullCircle(b.span)) {
+      const Vec3 nl = pb.q.conjugate() * normal;
+      if (!angleInSpan(std::atan2(nl.y(), nl.x()), b.start, b.span)) continue;
+    }
+    n = emit(out, n, p, o + along * u + R * normal, normal, radial.dot(normal) - R,
+             cand_feature[k], margin);
+  }
+  return n;
+}
+
+}  // namespace pairs
+}  // namespace nscd
