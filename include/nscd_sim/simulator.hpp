@@ -2,10 +2,12 @@
 // nscd_run, the ROS node, the benchmarks and the tests all drive this class.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/model.hpp"
 
 namespace nscd {
@@ -86,6 +88,21 @@ struct EnergyReport {
   double total() const { return kinetic + gravity + springs; }
 };
 
+// One friction-contact problem as a step solved it: U = W P + b over `blocks`,
+// the warm start the solver began from and its answer (before the impact
+// safeguards). Seen by a ProblemObserver; the views die with the call.
+struct ProblemView {
+  double t = 0;   // start of the step
+  int round = 0;  // 0, then 1 if contacts closed by the answer joined (late contacts)
+  Eigen::Ref<const Eigen::MatrixXd> W;
+  Eigen::Ref<const Eigen::VectorXd> b;
+  const std::vector<ProblemBlock>& blocks;
+  Eigen::Ref<const Eigen::VectorXd> P_start;
+  Eigen::Ref<const Eigen::VectorXd> P;
+  const SolverReport& report;
+};
+using ProblemObserver = std::function<void(const ProblemView&)>;
+
 class StepWorkspace;  // preallocated buffers of the pipeline (step_workspace.hpp)
 struct StepOutputs;   // what the last step reports (step_workspace.hpp)
 
@@ -107,6 +124,10 @@ class Simulator {
 
   // One time step of length model().settings.dt.
   StepStatus step();
+  // Called after every friction-contact solve of step() (for dumps and solver
+  // studies); an empty function removes it. Costs a copy of the warm start per
+  // solve while set, nothing otherwise.
+  void setProblemObserver(ProblemObserver observer);
   // Back to the initial state (after assembly); commands back to their initial
   // values; warm starts and every output of the last step cleared.
   void reset();
@@ -157,6 +178,7 @@ class Simulator {
   // Buffers of the const queries (stats(), constraintViolation()): a query never
   // writes the step's workspace, so it cannot change the trajectory.
   std::unique_ptr<StepWorkspace> query_ws_;
+  ProblemObserver observer_;
 };
 
 }  // namespace nscd

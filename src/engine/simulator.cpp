@@ -99,7 +99,13 @@ StepStatus Simulator::step() {
       assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);
       buildFrictionContactProblem(m, state_, kept, ws, st);
       SolverOptions options = solverOptions(set);
+      if (observer_) ws.P_start.head(ws.rows) = ws.P.head(ws.rows);
       SolverReport rep = solveFrictionContact(ws, options);
+      if (observer_) {
+        const int r = ws.rows;
+        observer_(ProblemView{state_.t, round, ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem,
+                              ws.P_start.head(r), ws.P.head(r), rep});
+      }
       applyImpactSafeguards(m, ws, options, rep, st);
       iterations += rep.iterations;
       st.iterations = iterations;
@@ -147,6 +153,11 @@ StepStatus Simulator::step() {
     finite = finite && b.x.allFinite() && b.q.coeffs().allFinite();
   if (!finite) return StepStatus::NonFinite;
   return st.converged ? StepStatus::Ok : StepStatus::NotConverged;
+}
+
+void Simulator::setProblemObserver(ProblemObserver observer) {
+  observer_ = std::move(observer);
+  if (observer_) ws_->P_start.resize(ws_->P.size());
 }
 
 double Simulator::actuatorEffort(int actuator) const { return out_->actuator_effort[actuator]; }

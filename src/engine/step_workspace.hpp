@@ -108,6 +108,7 @@ class StepWorkspace {
   Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
   Eigen::MatrixXd W;       // max_rows x max_rows
   Eigen::VectorXd b, P;
+  Eigen::VectorXd P_start;  // the warm start, kept only for a ProblemObserver
   FrictionContactSolver solver;
   int rows = 0;
 

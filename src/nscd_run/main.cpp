@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -16,6 +17,7 @@
 
 #include "csv_writer.hpp"
 #include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/problem_file.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 
@@ -67,7 +69,7 @@ std::string jsonNumber(double v) {
 
 int main(int argc, char** argv) {
   CLI::App app{"nscd_run: headless Moreau-Jean simulation of a scene (URDF + <nscd>)"};
-  std::string scene, config, csv;
+  std::string scene, config, csv, dump_dir, dump_when = "unconverged";
   std::vector<std::string> sets, commands;
   double duration = 1.0, dt = 0;
   int every = 1;
@@ -81,6 +83,10 @@ int main(int argc, char** argv) {
   app.add_option("--every", every, "CSV row every N steps (default 1)");
   app.add_option("--command", commands, "actuator schedule NAME=t0:v0,t1:v1,... (repeatable)");
   app.add_flag("--quiet", quiet, "no progress bar");
+  app.add_option("--dump-problems", dump_dir,
+                 "write friction-contact problems to this folder (docs/interfaces.md)");
+  app.add_option("--dump-when", dump_when,
+                 "which problems: unconverged (default), all, or a step count N (every Nth step)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -91,6 +97,17 @@ int main(int argc, char** argv) {
   if (!std::isfinite(duration) || duration < 0)
     return badInput("nscd_run: --duration must be a finite number >= 0");
   if (every < 1) return badInput("nscd_run: --every must be >= 1");
+  long dump_every = 0;  // 0: unconverged only
+  if (dump_when == "all") {
+    dump_every = 1;
+  } else if (dump_when != "unconverged") {
+    char* end = nullptr;
+    dump_every = std::strtol(dump_when.c_str(), &end, 10);
+    if (end == dump_when.c_str() || *end != 0 || dump_every < 1)
+      return badInput("nscd_run: --dump-when " + dump_when + ": expected unconverged, all or N >= 1");
+  }
+  if (!dump_dir.empty() && access(dump_dir.c_str(), W_OK) != 0)
+    return badInput("nscd_run: --dump-problems " + dump_dir + ": not a writable folder");
 
   std::vector<nscd::SettingOverride> overrides;
   std::unique_ptr<nscd::Simulator> sim;
@@ -132,6 +149,17 @@ int main(int argc, char** argv) {
   }
 
   const double h = sim->model().settings.dt;
+  long k = 0;
+  int dumped = 0;
+  if (!dump_dir.empty()) {
+    sim->setProblemObserver([&](const nscd::ProblemView& v) {
+      if (dump_every == 0 ? v.report.converged : (k - 1) % dump_every != 0) return;
+      char name[64];
+      std::snprintf(name, sizeof name, "/step%08ld_r%d.txt", k, v.round);
+      nscd::writeProblemFile(dump_dir + name, v);
+      ++dumped;
+    });
+  }
   const long steps = static_cast<long>(std::llround(duration / h));
   nscd::applySchedules(schedules, 0.0, *sim);
   if (writer) writer->writeRow(*sim);
@@ -144,7 +172,6 @@ int main(int argc, char** argv) {
   auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  long k = 0;
   int status = 0;
   for (k = 1; k <= steps; ++k) {
     nscd::applySchedules(schedules, k * h, *sim);  // the command at the end of the step
@@ -168,6 +195,7 @@ int main(int argc, char** argv) {
   }
   const double wall_s = wall();
   progress.finish(sim->state().t, wall_s);
+  if (!dump_dir.empty()) std::cerr << "nscd_run: " << dumped << " problems written to " << dump_dir << std::endl;
   const long done = status == 0 ? steps : k;
   const double sim_time = sim->state().t;
   std::cout << "{\"steps\":" << done << ",\"sim_time\":" << jsonNumber(sim_time)
