@@ -1,0 +1,92 @@
+// Problem dumps (Simulator::setProblemObserver, problem files, nscd_run
+// --dump-problems): a dumped problem reads back bit for bit, and solving it again
+// from its warm start gives the run's answer exactly, so a dump is a faithful
+// copy of what the step solved.
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "nscd_sim/problem_file.hpp"
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
+#include "test_support.hpp"
+
+using namespace nscd;
+
+TEST(ProblemFile, ReadsBackBitForBitAndResolvesToTheRunsAnswer) {
+  Simulator sim(loadScene(nscd_test::scenePath("urdf/clearance_pendulum.urdf")));
+  const std::string path = nscd_test::writeTemp("", ".txt");
+  int seen = 0;
+  sim.setProblemObserver([&](const ProblemView& v) {
+    if (++seen != 40) return;  // a problem from the middle of the swing
+    writeProblemFile(path, v);
+  });
+  for (int k = 0; k < 2000 && seen < 40; ++k) ASSERT_NE(sim.step(), StepStatus::NonFinite);
+  ASSERT_GE(seen, 40);
+  const ProblemFile p = readProblemFile(path);
+  ASSERT_GT(p.b.size(), 0);
+  // Bit for bit: writing what was read gives the same text.
+  const std::string again = nscd_test::writeTemp("", ".txt");
+  SolverReport rep;
+  rep.residual = p.residual;
+  rep.converged = p.converged;
+  rep.iterations = p.iterations;
+  writeProblemFile(again, ProblemView{p.t, p.round, p.W, p.b, p.blocks, p.P_start, p.P, rep});
+  std::FILE* a = std::fopen(path.c_str(), "r");
+  std::FILE* b = std::fopen(again.c_str(), "r");
+  ASSERT_TRUE(a && b);
+  int ca = 0, cb = 0;
+  long n = 0;
+  do {
+    ca = std::fgetc(a);
+    cb = std::fgetc(b);
+    ++n;
+  } while (ca == cb && ca != EOF);
+  std::fclose(a);
+  std::fclose(b);
+  EXPECT_EQ(ca, cb) << "files differ at byte " << n;
+  // The same solver from the same warm start: the run's answer.
+  FrictionContactSolver solver;
+  SolverOptions o;
+  o.tolerance = sim.model().settings.tolerance;
+  o.max_iterations = sim.model().settings.max_iterations;
+  Eigen::VectorXd P = p.P_start;
+  const SolverReport r = solver.solve(p.W, p.b, p.blocks, o, P);
+  EXPECT_EQ(r.converged, p.converged);
+  EXPECT_EQ(r.iterations, p.iterations);
+  EXPECT_EQ((P - p.P).cwiseAbs().maxCoeff(), 0.0);
+  std::remove(path.c_str());
+  std::remove(again.c_str());
+}
+
+TEST(ProblemFile, NotAProblemFileIsRefusedWithItsName) {
+  const std::string path = nscd_test::writeTemp("nscd-friction-contact-problem 1\nt 0 round 0 rows 3\n", ".txt");
+  try {
+    readProblemFile(path);
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+TEST(ProblemFile, NscdRunDumpsAndRefusesBadDumpOptions) {
+  char dir[] = "/tmp/nscd_dumpXXXXXX";
+  ASSERT_NE(mkdtemp(dir), nullptr);
+  const std::string scene = nscd_test::scenePath("urdf/clearance_pendulum.urdf");
+  const nscd_test::RunResult ok =
+      nscd_test::runNscd(scene + " --duration 0.01 --dump-problems " + dir + " --dump-when 10");
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_NE(ok.err.find("problems written to"), std::string::npos) << ok.err;
+  const nscd_test::RunResult when = nscd_test::runNscd(scene + " --dump-problems " + dir + " --dump-when often");
+  EXPECT_EQ(when.status, 2);
+  EXPECT_NE(when.err.find("--dump-when"), std::string::npos) << when.err;
+  const nscd_test::RunResult where = nscd_test::runNscd(scene + " --dump-problems /nonexistent/dir");
+  EXPECT_EQ(where.status, 2);
+  EXPECT_NE(where.err.find("not a writable folder"), std::string::npos) << where.err;
+  std::system((std::string("rm -rf ") + dir).c_str());
+}
