@@ -30,9 +30,12 @@ struct ProblemBlock {
 // Auto: NSGS, switching to the global Newton after one sweep on small problems
 // or when the measured NSGS rate predicts many more sweeps; NSGS: sweeps only;
 // Newton: one NSGS sweep (cleans the warm start), then Newton. A failed Newton is
-// discarded (NSGS resumes from where Newton started, with up to 3 more Newton
-// attempts between runs of sweeps), and NSGS keeps its full sweep budget.
-enum class SolverMethod { Auto, NSGS, Newton };
+// discarded (NSGS resumes from where Newton started; the first failure restarts
+// the Newton from P = 0, then up to 3 more attempts between runs of sweeps), and
+// NSGS keeps its full sweep budget; if the problem is still unsolved, the
+// proximal Newton (proximal_newton.cpp) from the best iterate. ProximalNewton:
+// one sweep, then the proximal Newton at once (for solver studies).
+enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
 
 struct SolverOptions {
   double tolerance = 1e-8;   // on the normalised error (see solverError)
@@ -82,6 +85,10 @@ class FrictionContactSolver {
     Eigen::VectorXd phi, d, Wd, Pt, Ut, phiT, rho;
     std::vector<int> piv;
     std::vector<char> zeroRow;  // W(i, i) negligible: P_i = 0
+    // Proximal Newton: the shifted problem W + sigma D, b - sigma D P_k, and the
+    // outer iterate.
+    Eigen::MatrixXd Wprox;
+    Eigen::VectorXd bprox, Pouter;
   };
 
  private:

@@ -127,8 +127,13 @@ void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllow
   if (newtonAllowed && ws.J.rows() < m) {  // not for NSGS only; capped at the Newton size
     const int cap = std::min(ws.maxRows, kNewtonMaxRows);
     ws.J.resize(cap, cap);
+    ws.Wprox.resize(cap, cap);
+    ws.bprox.resize(cap);
+    ws.Pouter.resize(2 * cap);
   }
 }
+
+}  // namespace
 
 // Zero rows (planar scenes) keep P = 0; the per-row scaling of the Newton
 // function; the equality rows assembled into one block, factored once; U, the
@@ -148,10 +153,11 @@ void setUpRun(SolveRun& run, double maxDiag) {
       if (zeroRow[i] && bl.kind != BlockKind::Frictionless && (bl.kind == BlockKind::Bilateral || i > r))
         run.P(i) = 0;
     }
-    if (bl.kind == BlockKind::Frictional) {
-      const double wT = 0.5 * (W(r + 1, r + 1) + W(r + 2, r + 2));
-      rho[r + 1] = rho[r + 2] = wT > run.zeroDiag ? 1.0 / wT : rho[r];
-    }
+    // One scale for the normal and the tangents of a contact (1 / its normal
+    // diagonal): the Alart-Curnier disc P_T - rho U_T then lives in the same
+    // metric as P_N - rho U_N; separate tangent scales made the Newton stall on
+    // the C-60's hyperstatic sets.
+    if (bl.kind == BlockKind::Frictional) rho[r + 1] = rho[r + 2] = rho[r];
   }
 
   ws.eqRows.clear();
@@ -190,21 +196,64 @@ void setUpRun(SolveRun& run, double maxDiag) {
   run.stallIt = 0;
 }
 
+namespace {
+
 // Which algorithm runs when. Auto: Newton after one sweep on small problems,
 // else when the NSGS rate observed predicts more sweeps than Newton costs
 // (checked after kSwitchSweeps, then at doubling sweep counts); NSGS to the
-// end; a failed Newton hands back to NSGS where it started, with up to
-// kNewtonAttempts attempts in all between runs of sweeps. False on a non-finite iterate.
+// end; a failed Newton hands back to NSGS where it started (the first failure
+// restarts it from P = 0), with up to kNewtonAttempts attempts in all between
+// runs of sweeps; the proximal Newton if all that fell short. False on a
+// non-finite iterate.
+double maxDiagOf(const SolveRun& run) {
+  double d = 0;
+  for (int i = 0; i < run.m; ++i) d = std::max(d, run.Wm(i, i));
+  return d;
+}
+
 bool runSchedule(SolveRun& run, bool newtonAllowed) {
+  SolveRun::Workspace& ws = run.ws;
   const SolverOptions& options = run.options;
   SolverReport& rep = run.rep;
   int attempts = 0;
+  // A failed Newton hands back to NSGS where it started. The first failure
+  // restarts from P = 0: a warm start carried over from the last step can sit
+  // far out along the null space of W (hyperstatic sets), where the Newton
+  // stalls; from a clean start it mostly converges.
   const auto tryNewton = [&] {
     ++attempts;
-    if (!runNewton(run)) resumeNsgs(run);
+    if (runNewton(run)) return;
+    resumeNsgs(run);
+    if (attempts != 1) return;
+    const double bestBefore = run.bestAll;  // the best iterate so far stays on offer
+    ws.Pouter.head(run.m) = ws.Pbest.head(run.m);
+    run.P.head(run.m).setZero();
+    setUpRun(run, maxDiagOf(run));
+    if (bestBefore < run.bestAll) {
+      run.bestAll = bestBefore;
+      ws.Pbest.head(run.m) = ws.Pouter.head(run.m);
+    }
+    if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return;
+    ws.Pstart.head(run.m) = run.P.head(run.m);
+    if (runNewton(run)) return;
+    // Both starts failed: the sweeps go on from the better of the two.
+    if (run.bestAll < bestBefore || run.bestAll >= run.err) {
+      resumeNsgs(run);
+      return;
+    }
+    run.P.head(run.m) = ws.Pbest.head(run.m);
+    setUpRun(run, maxDiagOf(run));
+    run.stallIt = rep.sweeps;
   };
   bool ok = true;
-  if (newtonAllowed && (options.method == SolverMethod::Newton || run.m <= kNewtonSmallRows)) {
+  if (newtonAllowed && options.method == SolverMethod::ProximalNewton) {
+    ok = runNsgs(run, 1);
+    if (ok && !rep.converged) {
+      ++attempts;
+      runProximalNewton(run);
+      attempts = kNewtonAttempts;  // no plain Newton after it
+    }
+  } else if (newtonAllowed && (options.method == SolverMethod::Newton || run.m <= kNewtonSmallRows)) {
     ok = runNsgs(run, 1);
     if (ok && !rep.converged) tryNewton();
   } else if (newtonAllowed) {
@@ -231,6 +280,14 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
     ok = runNsgs(run, retry ? std::min(rep.sweeps + kSwitchSweeps, options.max_iterations)
                             : options.max_iterations);
     if (ok && !rep.converged && retry && rep.sweeps < options.max_iterations) tryNewton();
+  }
+  // Last resort: the proximal Newton from the best iterate.
+  if (ok && !rep.converged && newtonAllowed) {
+    if (run.bestAll < run.err) {
+      run.P.head(run.m) = ws.Pbest.head(run.m);
+      setUpRun(run, maxDiagOf(run));
+    }
+    runProximalNewton(run);
   }
   return ok;
 }

@@ -56,6 +56,10 @@ struct SolveRun {
   }
 };
 
+// Sets a run up at its current P (friction_contact_solver.cpp): zero rows, the
+// Newton scaling, the factored equality block, U, the error. maxDiag: the largest W(i, i).
+void setUpRun(SolveRun& run, double maxDiag);
+
 // Siconos-style error of P given U (see solverError).
 double errorFromU(const std::vector<ProblemBlock>& blocks, const double* P, const double* U,
                   double bnorm);
@@ -69,5 +73,10 @@ void resumeNsgs(SolveRun& run);
 // global_newton.cpp: the global semismooth Newton from the current P; false if
 // it gives up (P is then left at its last iterate: see resumeNsgs).
 bool runNewton(SolveRun& run);
+
+// proximal_newton.cpp: the global Newton inside a proximal-point loop, the last
+// resort on hyperstatic sets; false if it gives up (P is then its best iterate,
+// and the run is set up again for the original problem).
+bool runProximalNewton(SolveRun& run);
 
 }  // namespace nscd
