@@ -33,3 +33,9 @@ function(nscd_sweep_link_tests)
   endif()
 endfunction()
 cmake_language(DEFER CALL nscd_sweep_link_tests)
+
+# Solver study: dumped problems (nscd_run --dump-problems) solved again.
+add_executable(nscd_solve_problems ${PROJECT_SOURCE_DIR}/bench/solve_problems.cpp)
+target_link_libraries(nscd_solve_problems nscd_engine CLI11::CLI11)
+target_compile_options(nscd_solve_problems PRIVATE -Wall -Wextra)
+set_target_properties(nscd_solve_problems PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${NSCD_SWEEP_BIN})

@@ -13,6 +13,11 @@
 // natural-map residual / |q|, the default) or nscd's (/ max(1, |q|)); our solver
 // is given the tolerance that makes its own stopping test equivalent.
 //        nscd_fclib --convert IN.dat OUT.hdf5 [--title TEXT] [--description TEXT]
+//        nscd_fclib --from-nscd IN.txt OUT.hdf5 [--title TEXT] [--description TEXT]
+// --from-nscd takes a problem file of `nscd_run --dump-problems`: its bilateral
+// rows are condensed out (Schur complement; a singular equality block by its
+// pseudo-inverse), a frictionless contact becomes a 3-row contact with mu = 0
+// and inert tangents, and the result is written as a local FCLib problem.
 // fclib.h has no C++ guard.
 extern "C" {
 #include <fclib.h>
@@ -29,6 +34,7 @@ extern "C" {
 #include <vector>
 
 #include "nscd_sim/friction_contact_solver.hpp"
+#include "nscd_sim/problem_file.hpp"
 
 #ifdef NSCD_WITH_SICONOS
 #include <FrictionContactProblem.h>
@@ -240,25 +246,19 @@ void printRow(FILE* f, const Row& r, bool csv) {
   }
 }
 
-#ifdef NSCD_WITH_SICONOS
-int convert(const char* in, const char* out, const std::string& title, const std::string& descr) {
-  FrictionContactProblem* fp = frictionContact_new_from_filename(in);
-  if (!fp) {
-    std::fprintf(stderr, "%s: cannot read a Siconos friction-contact problem\n", in);
-    return 1;
-  }
-  const int n = fp->dimension * fp->numberOfContacts;
-  // W in compressed columns, exact zeros dropped.
+// Writes a local problem U = W r + q (3 rows per contact) as FCLib HDF5.
+int writeLocal(const Eigen::MatrixXd& Wd, const Eigen::VectorXd& q, std::vector<double> mu,
+               const char* out, const std::string& title, const std::string& descr,
+               const std::string& math) {
+  const int n = static_cast<int>(q.size());
   std::vector<int> colp(n + 1, 0), rowi;
   std::vector<double> val;
   for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const double v = NM_get_value(fp->M, i, j);
-      if (v != 0) {
+    for (int i = 0; i < n; ++i)
+      if (Wd(i, j) != 0) {
         rowi.push_back(i);
-        val.push_back(v);
+        val.push_back(Wd(i, j));
       }
-    }
     colp[j + 1] = static_cast<int>(rowi.size());
   }
   fclib_matrix W{};
@@ -269,25 +269,103 @@ int convert(const char* in, const char* out, const std::string& title, const std
   W.x = val.data();
   W.nz = -1;
   fclib_info info{};
-  std::string t = title, d = descr, m = "U = W r + q, Coulomb friction, Siconos numerics .dat source";
+  std::string t = title, d = descr, m = math;
   info.title = &t[0];
   info.description = &d[0];
   info.math_info = &m[0];
+  std::vector<double> qv(q.data(), q.data() + n);
   fclib_local lp{};
   lp.W = &W;
-  lp.mu = fp->mu;
-  lp.q = fp->q;
-  lp.spacedim = fp->dimension;
+  lp.mu = mu.data();
+  lp.q = qv.data();
+  lp.spacedim = 3;
   lp.info = &info;
   std::remove(out);  // fclib appends to an existing file
-  const int ok = fclib_write_local(&lp, out);
-  frictionContactProblem_free(fp);
-  if (!ok) {
+  if (!fclib_write_local(&lp, out)) {
     std::fprintf(stderr, "%s: fclib_write_local failed\n", out);
     return 1;
   }
-  std::printf("%s -> %s (%d contacts, %d non-zeros)\n", in, out, n / lp.spacedim, W.nzmax);
+  std::printf("-> %s (%d contacts, %d non-zeros)\n", out, n / 3, W.nzmax);
   return 0;
+}
+
+int fromNscd(const char* in, const char* out, const std::string& title, const std::string& descr) {
+  nscd::ProblemFile p;
+  try {
+    p = nscd::readProblemFile(in);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  std::vector<int> eq, con;  // bilateral rows; contact blocks' first rows
+  for (const nscd::ProblemBlock& bl : p.blocks) {
+    if (bl.kind == nscd::BlockKind::Bilateral)
+      for (int i = bl.row; i < bl.row + bl.size; ++i) eq.push_back(i);
+  }
+  const int nc = static_cast<int>(p.blocks.size());
+  std::vector<double> mu;
+  Eigen::MatrixXd S;  // selects the local rows: 3 per contact (a frictionless one: its normal + 2 inert)
+  std::vector<int> rows;
+  for (const nscd::ProblemBlock& bl : p.blocks) {
+    if (bl.kind == nscd::BlockKind::Bilateral) continue;
+    mu.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.mu : 0.0);
+    rows.push_back(bl.row);
+    rows.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.row + 1 : -1);
+    rows.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.row + 2 : -1);
+  }
+  (void)nc;
+  const int n = static_cast<int>(rows.size()), ne = static_cast<int>(eq.size());
+  Eigen::MatrixXd Wcc = Eigen::MatrixXd::Zero(n, n), Wce = Eigen::MatrixXd::Zero(n, ne),
+                  Wee(ne, ne);
+  Eigen::VectorXd qc = Eigen::VectorXd::Zero(n), qe(ne);
+  for (int a = 0; a < n; ++a) {
+    if (rows[a] < 0) {
+      Wcc(a, a) = 1;  // an inert tangent: U_T = P_T, and mu = 0 keeps P_T = 0
+      continue;
+    }
+    qc(a) = p.b(rows[a]);
+    for (int c = 0; c < n; ++c)
+      if (rows[c] >= 0) Wcc(a, c) = p.W(rows[a], rows[c]);
+    for (int e = 0; e < ne; ++e) Wce(a, e) = p.W(rows[a], eq[e]);
+  }
+  for (int e = 0; e < ne; ++e) {
+    qe(e) = p.b(eq[e]);
+    for (int f = 0; f < ne; ++f) Wee(e, f) = p.W(eq[e], eq[f]);
+  }
+  Eigen::MatrixXd W = Wcc;
+  Eigen::VectorXd q = qc;
+  if (ne > 0) {  // U_e = 0 eliminates P_e: P_e = -Wee^+ (Wec P_c + q_e)
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Wee);
+    W -= Wce * cod.solve(Wce.transpose());
+    q -= Wce * cod.solve(qe);
+    W = 0.5 * (W + W.transpose());
+  }
+  std::printf("%s: %d contacts, %d bilateral rows condensed\n", in, n / 3, ne);
+  return writeLocal(W, q, mu, out, title, descr,
+                    "U = W r + q, Coulomb friction; nscd_run --dump-problems, bilateral rows condensed");
+}
+
+#ifdef NSCD_WITH_SICONOS
+int convert(const char* in, const char* out, const std::string& title, const std::string& descr) {
+  FrictionContactProblem* fp = frictionContact_new_from_filename(in);
+  if (!fp) {
+    std::fprintf(stderr, "%s: cannot read a Siconos friction-contact problem\n", in);
+    return 1;
+  }
+  const int n = fp->dimension * fp->numberOfContacts;
+  Eigen::MatrixXd W(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) W(i, j) = NM_get_value(fp->M, i, j);
+  const Eigen::VectorXd q = Eigen::Map<Eigen::VectorXd>(fp->q, n);
+  const std::vector<double> mu(fp->mu, fp->mu + fp->numberOfContacts);
+  const int dim = fp->dimension;
+  frictionContactProblem_free(fp);
+  if (dim != 3) {
+    std::fprintf(stderr, "%s: a %dD problem: only 3D ones are converted\n", in, dim);
+    return 1;
+  }
+  std::printf("%s: ", in);
+  return writeLocal(W, q, mu, out, title, descr, "U = W r + q, Coulomb friction, Siconos numerics .dat source");
 }
 #endif
 
@@ -298,6 +376,7 @@ int main(int argc, char** argv) {
   long max_iter = 10000;
   double min_ms = 20;
   std::string csv_path, title, descr, convert_in, convert_out, measure = "siconos";
+  std::string from_in, from_out;
   std::string storage = "best";  // of W for the Siconos solvers: sparse, dense or the faster
   std::vector<std::string> siconos_names{"nsgs", "nsn_ac", "nsn_fb", "prox"};
   std::vector<const char*> files;
@@ -324,6 +403,9 @@ int main(int argc, char** argv) {
     } else if (a == "--convert") {
       convert_in = next();
       convert_out = next();
+    } else if (a == "--from-nscd") {
+      from_in = next();
+      from_out = next();
     } else if (a == "--title") title = next();
     else if (a == "--description") descr = next();
     else if (!a.empty() && a[0] == '-') {
@@ -331,11 +413,13 @@ int main(int argc, char** argv) {
                    "usage: %s [--tol 1e-4,1e-8,1e-10] [--max-iter N] [--siconos nsgs,nsn_ac,...|none] "
                    "[--csv FILE] [--min-ms T] [--measure siconos|nscd] [--siconos-storage best|sparse|dense] "
                    "PROBLEM.hdf5...\n"
-                   "       %s --convert IN.dat OUT.hdf5 [--title T] [--description D]\n",
-                   argv[0], argv[0]);
+                   "       %s --convert IN.dat OUT.hdf5 [--title T] [--description D]\n"
+                   "       %s --from-nscd IN.txt OUT.hdf5 [--title T] [--description D]\n",
+                   argv[0], argv[0], argv[0]);
       return 2;
     } else files.push_back(argv[i]);
   }
+  if (!from_in.empty()) return fromNscd(from_in.c_str(), from_out.c_str(), title, descr);
   if (!convert_in.empty()) {
 #ifdef NSCD_WITH_SICONOS
     return convert(convert_in.c_str(), convert_out.c_str(), title, descr);
