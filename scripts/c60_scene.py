@@ -125,8 +125,9 @@ JOINTS = [
     ('J5', 'handle',         'rod',            'child',  (-11.66, 8.47),    (4.9, 8.86),   0.9,  0.045, 0.1),
     ('J6', 'hook',           'rod',            'child',  (4.865, 6.877),    (7.6, 8.65),   0.9,  0.045, 0.1),
     ('J7', 'needle',         'moving_contact', 'parent', (0.0, 0.0),        (0.5, 3.8),    1.0,  0.055, 0.1),
-    # S3: the needle held in the case/cover bores [Q-code offsets: 0.006 mm].
-    ('S3', 'world',          'needle',         'child',  (0.0, 0.0),        (-0.5, 10.7),  1.0,  0.006, 0.1),
+    # S3: the needle held in the case/cover bores [CAD rows 6-7: rings r 1.3 / 1.15 at z -0.5 /
+    # 10.7, offsets 0.294 / 0.144: radial gap 0.006 mm; mu 0.2].
+    ('S3', 'world',          'needle',         'child',  (0.0, 0.0),        (-0.5, 10.7),  1.0,  0.006, 0.2),
 ]
 def joints():
     return JOINTS
