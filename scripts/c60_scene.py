@@ -280,6 +280,11 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
     w('    <actuator name="handle" type="position" joint="J1" kp="%.9g" kd="%.9g" max_effort="%.9g"/>' %
       (HANDLE_KP, HANDLE_KD, HANDLE_MAX))
     w('    <actuator name="probe" type="prescribed" link="probe" axis="-1 0 0"/>')
+    # The tripping bar's seating moment [Q-code plugin: m[2] = 15 N mm for t < 1 ms; its sign
+    # per model-facts 0: the Newton-Euler body subtracts it, so -15 N mm about +z, clockwise,
+    # seating the bar towards its clockwise stop C5].
+    w('    <actuator name="bar_seating" type="torque" link="trip_bar" axis="0 0 1" schedule="0:%.9g,%.9g:%.9g,%.9g:0"/>'
+      % (SEAT_MOMENT * NMM, SEAT_UNTIL, SEAT_MOMENT * NMM, SEAT_UNTIL))
     if bench:
         w('    <actuator name="table" type="prescribed" link="table" axis="1 0 0"/>')
     # [OWN] see docs/c60.md "Numerics": positions projected to 1 nm; contacts within 0.1 um
@@ -291,6 +296,8 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
     return '\n'.join(out) + '\n'
 
 
+SEAT_MOMENT = -15.0     # N mm about +z [Q-code, sign model-facts 0]
+SEAT_UNTIL = 1e-3       # s [Q-code: t < 1.0 ms]
 TABLE_GAP = 0.001       # mm [OWN]
 MIN_CLEARANCE = 0.001   # mm: the "x0" clearance runs use 1 um (the engine needs c > 0)
 HANDLE_KP = 0.3         # N m/rad [OWN] handle servo (a user's hand)
