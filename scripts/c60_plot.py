@@ -79,7 +79,7 @@ def trip(d, png):
     t = d['t']
     x = d['probe.cmd']               # probe travel from its start, m
     F = d['probe.effort']            # force the driver needs, N (pushing the bar: > 0)
-    touch = first_time(t, (group_fn(d, 'TRIP') > 1e-3) & (x > 0))
+    touch = first_time(t, (d['TRIP.gap'] < 1e-6) & (x > 0))   # TRIP closes
     # The probe hits the bar at 0.2 m/s: the first steps carry an impact impulse. The
     # tripping force proper is the quasi-static push after 0.02 mm of contact travel.
     x_touch = float(np.interp(touch, t, x)) if touch else 0.0

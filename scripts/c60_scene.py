@@ -368,14 +368,15 @@ def ring_of(patch, link, radius=None):
 def face_of(patch, link, outward, offset, x0=None, x1=None):
     """A `face` from a CAD plane patch (a vertical rectangle: normal in the xy plane), its
     outward normal `outward` (link frame), shifted by `offset` along it. The rectangle is
-    the patch's bounding box (its centre is the tabulated point); x0/x1 override its
+    the patch's bounding box, centred on the tabulated point; x0/x1 override its
     extent along the link's x axis (for F4, see C4)."""
     assert patch['kind'] == 'plane', patch['kind']
     n = unit(outward)
     assert abs(abs(np.dot(n, unit(patch['normal_local']))) - 1) < 1e-6 and abs(n[2]) < 1e-9
     lo, hi = np.array(patch['bbox_local'][0]), np.array(patch['bbox_local'][1])
-    centre = 0.5 * (lo + hi)
-    assert np.linalg.norm(centre - patch['point_local']) < ROUND, (patch, centre)
+    # The tabulated point is the rectangle's centre (4 decimals; the box has 3).
+    centre = np.array(patch['point_local'], float)
+    assert np.linalg.norm(centre - 0.5 * (lo + hi)) < ROUND, (patch, centre)
     R = frame(n, np.cross([0, 0, 1.0], n))          # x horizontal in the face, y = +z
     sx, sy = math.hypot(*(hi - lo)[:2]), (hi - lo)[2]
     if x0 is not None:   # a face along the link's x axis: its extent x0..x1 (link frame)

@@ -174,7 +174,9 @@ TEST(C60, TripFollowsThePublishedSequence) {
     if (std::isnan(gap_at_start) && t >= 0.005 - 1e-9) gap_at_start = c.at(i, "TRIP.gap") + c.at(i, "probe.cmd");
     const double corner = c.at(i, "C4_3.fn") + c.at(i, "C4_4.fn"), seat = c.at(i, "C4.fn") + c.at(i, "C4_2.fn");
     if (std::isnan(t_touch)) {
-      if (groupForce(c, i, "TRIP") > 1e-3 && t > 0.0007) {
+      // The touch: TRIP closes (its gap, a state, does not depend on the sampling as an
+      // impact's one-step force does).
+      if (c.at(i, "TRIP.gap") < 1e-6 && t > 0.0007) {
         t_touch = t;
       } else if (t > 0.003) {  // settled: latched on the seat and closed until the touch
         on_seat_until_touch = on_seat_until_touch && seat > 1.0 && corner == 0.0 && c.at(i, "C7.gap") < 1e-6;
@@ -187,7 +189,7 @@ TEST(C60, TripFollowsThePublishedSequence) {
         t_release = t;
         continue;
       }
-      if (t > t_touch + 1e-4) probe_pushes = probe_pushes && c.at(i, "probe.effort") > 0.1;
+      if (t > t_touch + 1e-4) probe_pushes = probe_pushes && c.at(i, "probe.effort") > 0.1 && groupForce(c, i, "TRIP") > 0.1;
       if (std::isnan(t_corner)) {
         if (corner > seat && corner > 1.0) t_corner = t;
       } else if (t > t_corner + 1e-4) {  // from then on the corner carries the latch
@@ -207,7 +209,8 @@ TEST(C60, TripFollowsThePublishedSequence) {
   EXPECT_GT(n_seat, 50u);
   EXPECT_TRUE(on_seat_until_touch) << "the latch did not rest on the seat F4 until the touch";
   // The bar rests from 5 ms to the touch: the probe touches when its travel has closed the
-  // TRIP gap of the settled mechanism, within one sample (0.2 m/s x 20 us) and 1 um.
+  // TRIP gap of the settled mechanism, within one sample (0.2 m/s x 20 us) and 1 um (the
+  // contact enters the step 1 um early: gamma h u_N = 0.5 x 10 us x 0.2 m/s).
   EXPECT_NEAR(c.at(0, "probe.cmd"), 0.0, 1e-12);
   EXPECT_NEAR(0.2 * (t_touch - 0.0007), gap_at_start, 0.2 * 2e-5 + 1e-6);
   EXPECT_GT(t_corner, t_touch);
@@ -216,7 +219,7 @@ TEST(C60, TripFollowsThePublishedSequence) {
   EXPECT_TRUE(corner_until_release) << "the seat took the load back before the release";
   EXPECT_TRUE(probe_pushes) << "the probe let go before the release";
   EXPECT_GT(t_open, t_release);
-  EXPECT_GT(c.at(c.rows.size() - 1, "C7.gap"), 1e-3);  // well open at 12.5 ms
+  EXPECT_GT(c.at(c.rows.size() - 1, "C7.gap"), 1e-4);  // open by more than 0.1 mm at 12.5 ms
 }
 
 // Contact-force bench, coarse (8 ms strokes): force held at 2.0 mm within 0.6 N of the
