@@ -86,7 +86,6 @@ def trip(d, png):
     qs = x > x_touch + 2e-5
     imp = (x >= x_touch) & ~qs
     k_imp = int(np.nonzero(imp)[0][np.argmax(F[imp])]) if imp.any() else int(np.argmax(F))
-    k = int(np.nonzero(qs)[0][np.argmax(F[qs])]) if qs.any() else k_imp
     # Opening: the moving contact leaves the fixed contact for good.
     gap = d['C7.gap']
     closed = gap < 1e-6
@@ -107,7 +106,10 @@ def trip(d, png):
     seat = d['C4.fn'] + d['C4_2.fn']
     on_corner = (corner > seat) & (corner > 0.1)
     t_corner = first_time(t, on_corner)
+    # The push: from 0.02 mm of contact travel to the release (later hits of the probe on
+    # the bar swinging back are not tripping force).
     push = qs & (t < (t_release if t_release else t[-1]))
+    k = int(np.nonzero(push)[0][np.argmax(F[push])]) if push.any() else k_imp
     res = {'probe_touch_s': touch, 'probe_touch_travel_mm': round(1e3 * x_touch, 4),
            'impact_peak_N': round(float(F[k_imp]), 3), 'peak_force_N': round(float(F[k]), 3),
            'peak_at_travel_mm': round(float(1e3 * x[k]), 4), 'peak_at_s': float(t[k]),
@@ -221,7 +223,8 @@ def handle(d, png):
     ang = np.degrees(ang - ang[0])
     gap = d['C7.gap']
     res = {'handle_max_deg': round(float(ang.max()), 2), 'handle_end_deg': round(float(ang[-1]), 2),
-           'c7_open_s': first_time(t, gap > 1e-5), 'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
+           'c7_open_s': first_time(t, (t > 0.002) & (gap > 1e-5)),   # after the settling closed it
+           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
            'c7_gap_max_mm': round(float(1e3 * gap.max()), 3),
            'c4_gap_end_mm': round(float(1e3 * min(group_gap(d, 'C4')[-1], 1.0)), 3),
            'effort_max_Nm': round(float(np.abs(d['handle.effort']).max()), 4)}

@@ -166,7 +166,8 @@ TEST(C60, TripFollowsThePublishedSequence) {
   ASSERT_GT(c.rows.size(), 600u);
   const double nan = NAN;
   double t_touch = nan, t_corner = nan, t_release = nan, t_open = nan, gap_at_start = nan;
-  bool on_seat_until_touch = true, corner_until_release = true, probe_pushes = true;
+  bool on_seat_until_touch = true, corner_until_release = true, probe_pushes = true, stays_open = true;
+  double gap_max = 0;
   size_t n_seat = 0, n_corner = 0;
   for (size_t i = 0; i < c.rows.size(); ++i) {
     const double t = c.at(i, "t");
@@ -199,6 +200,10 @@ TEST(C60, TripFollowsThePublishedSequence) {
       continue;
     }
     if (std::isnan(t_open) && c.at(i, "C7.gap") > 1e-5) t_open = t;
+    if (!std::isnan(t_open) && t <= t_open + 1e-3) {  // it stays open for 1 ms at least
+      stays_open = stays_open && c.at(i, "C7.gap") > 1e-5;
+      gap_max = std::max(gap_max, c.at(i, "C7.gap"));
+    }
   }
   ASSERT_FALSE(std::isnan(t_touch)) << "the probe never touched the bar";
   ASSERT_FALSE(std::isnan(t_corner)) << "the tooth corner never took the load";
@@ -219,7 +224,10 @@ TEST(C60, TripFollowsThePublishedSequence) {
   EXPECT_TRUE(corner_until_release) << "the seat took the load back before the release";
   EXPECT_TRUE(probe_pushes) << "the probe let go before the release";
   EXPECT_GT(t_open, t_release);
-  EXPECT_GT(c.at(c.rows.size() - 1, "C7.gap"), 1e-4);  // open by more than 0.1 mm at 12.5 ms
+  // The contacts part: open for the next millisecond, by more than 1 mm. (Later the plate
+  // rebounds from its stop C3 with the handle held ON; docs/c60.md "Trip".)
+  EXPECT_TRUE(stays_open);
+  EXPECT_GT(gap_max, 1e-3);
 }
 
 // Contact-force bench, coarse (8 ms strokes): force held at 2.0 mm within 0.6 N of the
