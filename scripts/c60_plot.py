@@ -130,7 +130,7 @@ def trip(d, png):
         ax[0].grid(alpha=0.3)
         ax[0].legend()
         ax[1].plot(1e3 * t, 1e3 * gap, 'C1', label='C7 gap (moving-fixed contact)')
-        ax[1].plot(1e3 * t, 1e3 * np.minimum(c4, 1.0), 'C2', label='C4 gap (latch, closest pair)')
+        ax[1].plot(1e3 * t, 1e3 * np.minimum(c4, 1e-2), 'C2', label='C4 gap (latch, closest pair; cut at 10 mm)')
         ax[1].plot(1e3 * t, 1e3 * x, 'C0--', label='probe travel')
         if t_open:
             ax[1].axvline(1e3 * t_open, color='C3', lw=0.8)
