@@ -55,15 +55,16 @@ nscd_sim::ContactArrayConstPtr stepUntil(uint32_t chunk, uint32_t max_steps,
   return {};
 }
 
-// The same run in-process: steps until the named contact has no active point
-// (C7 open); the sim time then, or NaN after max_steps.
+// The same run in-process: steps until, after sim time `after`, the named contact
+// has no active point (C7 open); the sim time then, or NaN after max_steps.
 double inProcessOpening(nscd::Simulator& sim, uint32_t chunk, uint32_t max_steps,
-                        const std::function<void(nscd::Simulator&)>& before_step) {
+                        const std::function<void(nscd::Simulator&)>& before_step, double after = 0) {
   for (uint32_t taken = 0; taken < max_steps; taken += chunk) {
     for (uint32_t i = 0; i < chunk; ++i) {
       before_step(sim);
       sim.step();
     }
+    if (sim.state().t <= after) continue;
     bool c7 = false;
     for (const nscd::ContactReport& r : sim.contactPoints())
       c7 = c7 || (!r.clearance && sim.model().contacts[r.source].name == "C7");
@@ -100,9 +101,16 @@ TEST(C60Node, RestsLatchedAndHandleCommandOpensContacts) {
   for (size_t i = 0; i < sim.model().actuators.size(); ++i)
     if (sim.model().actuators[i].name == "handle") handle = static_cast<int>(i);
   ASSERT_GE(handle, 0);
-  for (int i = 0; i < 200; ++i) sim.step();
+  // The scene's own schedule (the bar's seating moment), as the node applies it.
+  const auto own = nscd::bindCommandSchedules({}, sim.model());
+  const double dt = sim.model().settings.dt;
+  auto scheduled = [&](nscd::Simulator& s) { nscd::applySchedules(own, s.state().t + dt, s); };
+  for (int i = 0; i < 200; ++i) {
+    scheduled(sim);
+    sim.step();
+  }
   sim.setCommand(handle, 1.2);
-  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1200, [](nscd::Simulator&) {}))
+  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1200, scheduled))
       << "the node and the engine open C7 at different steps";
 
   auto later = g_node->step(300, 60.0);
@@ -128,18 +136,16 @@ TEST(C60Node, ProbeScheduleTripsTheBreaker) {
   EXPECT_GT(open->sim_time, touch->sim_time);
   EXPECT_LT(open->sim_time, 0.013);
 
+  // In-process, the schedules bound as nscd_run and the node bind them: the probe's,
+  // and the scene's own (the bar's seating moment).
   nscd::Simulator sim(nscd::loadScene(nscd_test::sceneParam()));
-  const nscd::CommandSchedule probe =
-      nscd::parseCommandSchedule("probe=0:0,0.0007:0,0.0207:0.004");
-  int actuator = -1;
-  for (size_t i = 0; i < sim.model().actuators.size(); ++i)
-    if (sim.model().actuators[i].name == "probe") actuator = static_cast<int>(i);
-  ASSERT_GE(actuator, 0);
+  const auto schedules = nscd::bindCommandSchedules({"probe=0:0,0.0007:0,0.0207:0.004"}, sim.model());
+  ASSERT_EQ(schedules.size(), 2u);
   const double dt = sim.model().settings.dt;
   // As the node and nscd_run: the command at the end of the step.
   EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1300, [&](nscd::Simulator& s) {
-              s.setCommand(actuator, probe.value(s.state().t + dt));
-            }))
+              nscd::applySchedules(schedules, s.state().t + dt, s);
+            }, touch->sim_time))
       << "the node and the engine open C7 at different steps";
 }
 
