@@ -113,6 +113,34 @@ double groupGap(const Csv& c, size_t row, const std::string& group) {
 
 }  // namespace
 
+// The scene's contacts at the published ON pose (the first CSV row, before any step) have
+// the CAD's gaps (shared/c60/cad/contacts_cad.csv, gap_on_mm = CAD distance - offset; the
+// generator reads scripts/c60_cad_contacts.json, a copy). Within 0.1 um: the tables give 4
+// decimals; C6_3/C6_4 within 0.5 um (their MC face's normal, rounded to 1e-4, sits 1 mm
+// from the arcs). The pairs whose CAD distance is measured to a face's edge have no point.
+TEST(C60, ContactGapsAtOnAreTheCads) {
+  Csv c;
+  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60.urdf", "--duration 1e-5 --every 1", "on", c));
+  ASSERT_GE(c.rows.size(), 1u);
+  ASSERT_EQ(c.at(0, "t"), 0.0);
+  const struct {
+    const char* name;
+    double gap_mm;  // CAD row
+    double tol_mm;
+  } cad[] = {
+      {"C1", 0.023029, 1e-4},   {"C1_2", 0.002561, 1e-4},  {"C1_3", 0.003843, 1e-4},   // rows 2-4
+      {"C1_4", 0.023894, 1e-4}, {"C3_3", 4.72465, 1e-4},   {"C3_4", 4.114545, 1e-4},   // 5, 27, 28
+      {"C4", 0.007111, 1e-4},   {"C4_2", 0.007111, 1e-4},  {"C4_3", 0.017294, 1e-4},   // 14-16
+      {"C4_4", 0.017294, 1e-4}, {"C5", 0.019465, 1e-4},    {"C5_2", 0.019465, 1e-4},   // 17, 29, 30
+      {"C6", 1.146068, 1e-4},   {"C6_2", 1.146068, 1e-4},  {"C6_3", 1.037034, 5e-4},   // 31-33
+      {"C6_4", 1.037034, 5e-4}, {"C7", 0.038603, 1e-4},    {"TRIP", 0.379133, 1e-4},   // 34, 24, 36
+      {"FC", 0.388155, 1e-4},                                                          // 37
+  };
+  for (const auto& k : cad) EXPECT_NEAR(1e3 * c.at(0, std::string(k.name) + ".gap"), k.gap_mm, k.tol_mm) << k.name;
+  for (const char* n : {"C3", "C3_2", "TRIP_upper", "C4_F1", "C4_F2", "C4_F3", "C4_2_F1", "C4_2_F2", "C4_2_F3"})
+    EXPECT_TRUE(std::isinf(c.at(0, std::string(n) + ".gap"))) << n;
+}
+
 // Loads, settles from the published ON pose (the joints take up their clearances within
 // ~5 ms), then rests latched for 100 ms: the latch (some C4 pair) and the main contact C7
 // closed and loaded, the handle on its ON stop C1, and no motion from 10 to 110 ms.
