@@ -53,6 +53,22 @@ def plt_module():
     return plt
 
 
+def group(d, name, suffix):
+    """The columns of a contact group: `name` and `name_*` (C4, C4_2, C4_F2, ...: a CAD
+    contact with several point pairs is several <contact>s, docs/c60.md)."""
+    return [n for n in d.dtype.names if n.endswith(suffix) and
+            (n[:-len(suffix)] == name or n[:-len(suffix)].startswith(name + '_'))]
+
+
+def group_gap(d, name):
+    """Smallest gap of the group's pairs, per row (inf where none has a point)."""
+    return np.min(np.vstack([d[n] for n in group(d, name, '.gap')]), axis=0)
+
+
+def group_fn(d, name):
+    return np.sum(np.vstack([d[n] for n in group(d, name, '.fn')]), axis=0)
+
+
 def first_time(t, mask):
     idx = np.nonzero(mask)[0]
     return float(t[idx[0]]) if len(idx) else None
@@ -63,14 +79,13 @@ def trip(d, png):
     t = d['t']
     x = d['probe.cmd']               # probe travel from its start, m
     F = d['probe.effort']            # force the driver needs, N (pushing the bar: > 0)
-    touch = first_time(t, d['TRIP.fn'] > 1e-3)
+    touch = first_time(t, (d['TRIP.gap'] < 1e-6) & (x > 0))   # TRIP closes
     # The probe hits the bar at 0.2 m/s: the first steps carry an impact impulse. The
     # tripping force proper is the quasi-static push after 0.02 mm of contact travel.
     x_touch = float(np.interp(touch, t, x)) if touch else 0.0
     qs = x > x_touch + 2e-5
     imp = (x >= x_touch) & ~qs
     k_imp = int(np.nonzero(imp)[0][np.argmax(F[imp])]) if imp.any() else int(np.argmax(F))
-    k = int(np.nonzero(qs)[0][np.argmax(F[qs])]) if qs.any() else k_imp
     # Opening: the moving contact leaves the fixed contact for good.
     gap = d['C7.gap']
     closed = gap < 1e-6
@@ -79,14 +94,27 @@ def trip(d, png):
         last_closed = np.nonzero(closed)[0][-1]
         if last_closed < len(t) - 1:
             t_open = float(t[last_closed + 1])
+    # The latch: released when every C4 pair is open by more than 20 um (after the touch);
+    # the tooth corner (C4_3, C4_4) against the seat (C4, C4_2).
     t_release = None
-    c4 = d['C4.gap']
-    rel = np.nonzero(c4 > 20e-6)[0]
+    c4 = group_gap(d, 'C4')
+    after = t > (touch if touch else 0)
+    rel = np.nonzero(after & (c4 > 20e-6))[0]
     if len(rel):
         t_release = float(t[rel[0]])
+    corner = d['C4_3.fn'] + d['C4_4.fn']
+    seat = d['C4.fn'] + d['C4_2.fn']
+    on_corner = (corner > seat) & (corner > 0.1)
+    t_corner = first_time(t, on_corner)
+    # The push: from 0.02 mm of contact travel to the release (later hits of the probe on
+    # the bar swinging back are not tripping force).
+    push = qs & (t < (t_release if t_release else t[-1]))
+    k = int(np.nonzero(push)[0][np.argmax(F[push])]) if push.any() else k_imp
     res = {'probe_touch_s': touch, 'probe_touch_travel_mm': round(1e3 * x_touch, 4),
            'impact_peak_N': round(float(F[k_imp]), 3), 'peak_force_N': round(float(F[k]), 3),
            'peak_at_travel_mm': round(float(1e3 * x[k]), 4), 'peak_at_s': float(t[k]),
+           'mean_push_force_N': round(float(F[push].mean()), 3) if push.any() else None,
+           'corner_takes_load_s': t_corner,
            'latch_release_s': t_release, 'c7_open_s': t_open,
            'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3)}
     if png:
@@ -102,7 +130,7 @@ def trip(d, png):
         ax[0].grid(alpha=0.3)
         ax[0].legend()
         ax[1].plot(1e3 * t, 1e3 * gap, 'C1', label='C7 gap (moving-fixed contact)')
-        ax[1].plot(1e3 * t, 1e3 * d['C4.gap'], 'C2', label='C4 gap (latch)')
+        ax[1].plot(1e3 * t, 1e3 * np.minimum(c4, 1e-2), 'C2', label='C4 gap (latch, closest pair; cut at 10 mm)')
         ax[1].plot(1e3 * t, 1e3 * x, 'C0--', label='probe travel')
         if t_open:
             ax[1].axvline(1e3 * t_open, color='C3', lw=0.8)
@@ -195,9 +223,10 @@ def handle(d, png):
     ang = np.degrees(ang - ang[0])
     gap = d['C7.gap']
     res = {'handle_max_deg': round(float(ang.max()), 2), 'handle_end_deg': round(float(ang[-1]), 2),
-           'c7_open_s': first_time(t, gap > 1e-5), 'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
+           'c7_open_s': first_time(t, (t > 0.002) & (gap > 1e-5)),   # after the settling closed it
+           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
            'c7_gap_max_mm': round(float(1e3 * gap.max()), 3),
-           'c4_gap_end_mm': round(float(1e3 * d['C4.gap'][-1]), 3),
+           'c4_gap_end_mm': round(float(1e3 * min(group_gap(d, 'C4')[-1], 1.0)), 3),
            'effort_max_Nm': round(float(np.abs(d['handle.effort']).max()), 4)}
     if png:
         plt = plt_module()
@@ -212,7 +241,7 @@ def handle(d, png):
         ax[0].grid(alpha=0.3)
         ax[0].set_title('C-60 handle ON -> OFF -> ON command')
         ax[1].plot(1e3 * t, 1e3 * gap, 'C1', label='C7 gap')
-        ax[1].plot(1e3 * t, 1e3 * d['C4.gap'], 'C2', label='C4 gap (latch)')
+        ax[1].plot(1e3 * t, 1e3 * np.minimum(group_gap(d, 'C4'), 1e-3), 'C2', label='C4 gap (latch, closest pair; cut at 1 mm)')
         ax[1].plot(1e3 * t, 1e3 * d['handle.effort'], 'C3', lw=0.8, label='handle torque [N mm]')
         ax[1].set_xlabel('time [ms]')
         ax[1].set_ylabel('[mm], [N mm]')
@@ -237,9 +266,10 @@ def rest(d, png):
     names = [n[:-3] for n in d.dtype.names if n.endswith('.fn')]
     forces = {n: {'mean': round(float(np.mean(d[n + '.fn'][half])), 4),
                   'spread': round(float(np.ptp(d[n + '.fn'][half])), 5)} for n in names}
-    gaps = {n[:-4]: round(float(1e6 * d[n][-1]), 4) for n in d.dtype.names if n.endswith('.gap')}
+    gaps = {n[:-4]: round(float(1e6 * d[n][-1]), 4) for n in d.dtype.names
+            if n.endswith('.gap') and np.isfinite(d[n][-1])}
     return {'window_s': [float(t[i0]), float(t[-1])], 'drift': drift, 'forces_N': forces, 'gaps_um': gaps,
-            'latched': bool(d['C4.gap'][-1] < 1e-6 and d['C7.gap'][-1] < 1e-6),
+            'latched': bool(group_gap(d, 'C4')[-1] < 1e-6 and d['C7.gap'][-1] < 1e-6),
             'polarisation': polarisation(d, len(t) - 1)}
 
 

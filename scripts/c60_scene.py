@@ -10,6 +10,7 @@ our own choice); the writer converts to SI. docs/c60.md explains every choice.
                        [--p3-rest R]          writes one variant (sensitivity runs)
 """
 import argparse
+import json
 import math
 import os
 
@@ -63,8 +64,8 @@ def rotz(deg):
 
 def pose(name):
     if name == 'table':  # bench table frame: on the fixed-contact plane, identity rotation
-        c7 = to_world('moving_contact', (20.97, 0.0, 4.5))
-        return np.array([c7[0] - 5.2 - TABLE_GAP, c7[1], 4.5]), np.eye(3)
+        c7 = geometry_points()['c7_centre']
+        return np.array([c7_plane_x() - TABLE_GAP, c7[1], 4.5]), np.eye(3)
     b = BODIES[name]
     if name == 'probe':
         R = np.array([[-1.0, 0, 0], [0, 1, 0], [0, 0, -1]])  # -180 deg about y
@@ -87,6 +88,8 @@ def to_world(name, p_local):
 def rpy_of(R):
     """URDF rpy of a rotation matrix (R = Rz(y) Ry(p) Rx(r))."""
     p = math.asin(max(-1.0, min(1.0, -R[2, 0])))
+    if abs(R[2, 0]) > 1 - 1e-12:   # pitch +-90 deg: roll and yaw merge; take roll 0
+        return 0.0, p, math.atan2(-R[0, 1], R[1, 1])
     r = math.atan2(R[2, 1], R[2, 2])
     y = math.atan2(R[1, 0], R[0, 0])
     return r, p, y
@@ -122,8 +125,9 @@ JOINTS = [
     ('J5', 'handle',         'rod',            'child',  (-11.66, 8.47),    (4.9, 8.86),   0.9,  0.045, 0.1),
     ('J6', 'hook',           'rod',            'child',  (4.865, 6.877),    (7.6, 8.65),   0.9,  0.045, 0.1),
     ('J7', 'needle',         'moving_contact', 'parent', (0.0, 0.0),        (0.5, 3.8),    1.0,  0.055, 0.1),
-    # S3: the needle held in the case/cover bores [Q-code offsets: 0.006 mm].
-    ('S3', 'world',          'needle',         'child',  (0.0, 0.0),        (-0.5, 10.7),  1.0,  0.006, 0.1),
+    # S3: the needle held in the case/cover bores [CAD rows 6-7: rings r 1.3 / 1.15 at z -0.5 /
+    # 10.7, offsets 0.294 / 0.144: radial gap 0.006 mm; mu 0.2].
+    ('S3', 'world',          'needle',         'child',  (0.0, 0.0),        (-0.5, 10.7),  1.0,  0.006, 0.2),
 ]
 def joints():
     return JOINTS
@@ -149,8 +153,8 @@ P3_REST_CODE = -(DELTA_ON + 0.49)                      # rad: torque on MC = K2 
 def geometry_points():
     """Derived ON-state points (mm, world) used by the contacts; printed by --info."""
     P = {}
-    # C7: contact arc r 5.2 centred 20.97 mm from the MC pivot along its CAD x [D-code].
-    P['c7_centre'] = to_world('moving_contact', (20.97, 0.0, 4.5))
+    # C7: contact arc r 5.2003 about MC-local (20.967, 0.0003), z 3.5..5.5 [CAD row 24].
+    P['c7_centre'] = to_world('moving_contact', (20.967, 0.0003, 4.5))
     # Hook nose half-rings [Q-code hook-local (-5.675, -0.519), z 0 and 2].
     P['nose'] = to_world('hook', (-5.675, -0.519, 1.0))
     return P
@@ -170,7 +174,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
     # ---- ground: case + cover. Visuals only (contacts are declared in <nscd>).
     w('  <link name="world">')
     c7 = geometry_points()['c7_centre']
-    x_fixed = c7[0] - 5.2
+    x_fixed = c7_plane_x()
     vis = [
         # base plate of the case (thin, below everything)
         ('box', (0.0, 0.0, -1.2), (0, 0, 0), (44.0, 40.0, 0.4), 'case'),
@@ -269,13 +273,18 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
       (K_P3 * NMM, p3_rest))
 
     # ---- contacts
-    for c in contacts(bench, fscale, x_fixed):
+    for c in contacts(bench, fscale):
         w(c)
 
     # ---- inputs
     w('    <actuator name="handle" type="position" joint="J1" kp="%.9g" kd="%.9g" max_effort="%.9g"/>' %
       (HANDLE_KP, HANDLE_KD, HANDLE_MAX))
     w('    <actuator name="probe" type="prescribed" link="probe" axis="-1 0 0"/>')
+    # The tripping bar's seating moment [Q-code plugin: m[2] = 15 N mm for t < 1 ms; its sign
+    # per model-facts 0: the Newton-Euler body subtracts it, so -15 N mm about +z, clockwise,
+    # seating the bar towards its clockwise stop C5].
+    w('    <actuator name="bar_seating" type="torque" link="trip_bar" axis="0 0 1" schedule="0:%.9g,%.9g:%.9g,%.9g:0"/>'
+      % (SEAT_MOMENT * NMM, SEAT_UNTIL, SEAT_MOMENT * NMM, SEAT_UNTIL))
     if bench:
         w('    <actuator name="table" type="prescribed" link="table" axis="1 0 0"/>')
     # [OWN] see docs/c60.md "Numerics": positions projected to 1 nm; contacts within 0.1 um
@@ -287,6 +296,8 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
     return '\n'.join(out) + '\n'
 
 
+SEAT_MOMENT = -15.0     # N mm about +z [Q-code, sign model-facts 0]
+SEAT_UNTIL = 1e-3       # s [Q-code: t < 1.0 ms]
 TABLE_GAP = 0.001       # mm [OWN]
 MIN_CLEARANCE = 0.001   # mm: the "x0" clearance runs use 1 um (the engine needs c > 0)
 HANDLE_KP = 0.3         # N m/rad [OWN] handle servo (a user's hand)
@@ -307,32 +318,6 @@ def shape(link, kind, xyz_mm, R=None, **dims):
             (link, kind, attrs, fmt(xyz_mm), fmt_rpy(R))).replace('  >', '>')
 
 
-def plane_R(n_world, body=None):
-    """Rotation (in the body frame) whose z axis is the world direction n at ON."""
-    n = np.asarray(n_world, float)
-    n = n / np.linalg.norm(n)
-    if body is not None:
-        n = pose(body)[1].T @ n
-    z = n
-    x = np.cross([0, 0, 1.0], z) if abs(z[2]) < 0.9 else np.array([1.0, 0, 0])
-    x = x / np.linalg.norm(x)
-    y = np.cross(z, x)
-    return np.column_stack([x, y, z])
-
-
-def zcap(link, centre_world, z0, z1, r):
-    """A capsule with axis along world z from z0 to z1 (mm) at world xy of centre_world."""
-    c = np.array([centre_world[0], centre_world[1], 0.5 * (z0 + z1)])
-    R = pose(link)[1].T if link != 'world' else np.eye(3)
-    loc = to_local(link, c) if link != 'world' else c
-    return shape(link, 'capsule', loc, R, radius='%.9g' % (r * MM), length='%.9g' % ((z1 - z0) * MM))
-
-
-def plane(link, point_world, n_world):
-    loc = to_local(link, point_world) if link != 'world' else np.asarray(point_world, float)
-    return shape(link, 'plane', loc, plane_R(n_world, None if link == 'world' else link))
-
-
 def contact(name, mu, a, b):
     return '    <contact name="%s" mu="%.9g" e="0">\n%s\n%s\n    </contact>' % (name, mu, a, b)
 
@@ -342,102 +327,244 @@ def unit(v):
     return v / np.linalg.norm(v)
 
 
-def perp(v):  # +90 deg about z
-    return np.array([-v[1], v[0], 0.0])
+# The authors' 39 contacts worked out of their STEP patches (shared/c60/cad/, a copy in
+# scripts/c60_cad_contacts.json; docs/c60.md "Contacts" gives its provenance). Every
+# number a contact below uses is read from this table by the contact's CAD name, in the
+# link frame (the CAD "local" frame is our link frame; mm). The CAD gap at ON is the
+# patches' distance minus the contact's offset: the offset becomes a shift of the face
+# along its outward normal, or a larger cylinder radius.
+CAD_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'c60_cad_contacts.json')
+with open(CAD_FILE) as _f:
+    CAD = {c['name']: c for c in json.load(_f)}
+LINK_OF = {'MANETTE': 'handle', 'BATIE': 'world', 'CROCHET': 'hook', 'BARRE': 'trip_bar',
+           'PLATINE': 'plate', 'EQUIPAGE': 'moving_contact', 'PROBE': 'probe', 'AIGUILLE': 'needle'}
+ROUND = 2e-3          # mm: the tables give 4 decimals; derived points are checked to this
+# mm [OWN]: every face grows by 1 nm on each side, so that an arc lying exactly on a face's
+# edge in the CAD (C6: the MC arc at z 1.8 on the plate face's edge z 1.8) is on the face
+# despite round-off (the ring-face pair keeps a point whose foot is on the closed rectangle).
+FACE_PAD = 1e-6
 
 
-def latch_geometry():
-    """C4 latch [OWN design on Q-code points]. Why not the published wedge: the bar wedge arc
-    (r 5.9 about bar-local (5.957, 4.864)) puts its normal at the nose along (-0.975, -0.222);
-    the hook load then turns the bar clockwise, and the nose slides off the arc only when the
-    bar turns clockwise too, which the probe (pushing +x below the bar pivot: anticlockwise)
-    cannot do, and FC stops. Our face keeps the published nose and makes the probe's
-    direction the release direction.
-
-    The hook nose (half rings r 0.5 at hook-local
-    (-5.675, -0.519), z 0..2) rests on a flat latch face of the tripping bar. The face
-    normal (force on the hook) points at LATCH_ANGLE from +x: it passes 4.4 mm from the
-    hook pivot J3 (holds the hook) and just beside the bar pivot J4, so the latch load
-    presses the bar against its end stop FC with a small moment (a stable latch); turning
-    the bar anticlockwise slides the face along the nose until the nose passes its edge."""
-    N = to_world('hook', (-5.675, -0.519, 0.0))[:2]
-    n = np.array([math.cos(LATCH_ANGLE * DEG), math.sin(LATCH_ANGLE * DEG)])
-    P = N - 0.5 * n                                       # contact point on the face
-    t = np.array([n[1], -n[0]])                           # along the face, towards the edge
-    return N, n, P, t
+def frame(z, x):
+    """Rotation with columns x, y = z cross x, z (x made orthogonal to z)."""
+    z = unit(z)
+    x = unit(np.asarray(x, float) - np.dot(x, z) * z)
+    return np.column_stack([x, np.cross(z, x), z])
 
 
-LATCH_ANGLE = 150.0    # deg [OWN]
-LATCH_ENGAGE = 0.5     # mm [OWN] face length from the contact point to the edge
-LATCH_DEPTH = 1.5      # mm [OWN]
-LATCH_BACK = 2.0       # mm [OWN] face length behind the contact point
+def ring_of(patch, link, radius=None):
+    """A `ring` from a CAD 'circle arc' patch: frame z = the arc's axis, x = towards its
+    middle, so the arc is -span/2 + [0, span] about z. Its tabulated start is checked."""
+    assert patch['kind'] == 'circle arc', patch['kind']
+    c, r = np.array(patch['centre_local']), patch['radius']
+    R = frame(patch['axis_local'], np.array(patch['mid_local']) - c)
+    span = patch['span_deg'] * DEG
+    start = c + r * (math.cos(span / 2) * R[:, 0] - math.sin(span / 2) * R[:, 1])
+    assert np.linalg.norm(start - patch['start_local']) < ROUND, (patch, start)
+    return shape(link, 'ring', c, R, radius='%.9g' % ((radius or r) * MM), start='%.9g' % (-span / 2),
+                 span='%.9g' % span)
 
 
-def contacts(bench, fs, x_fixed):
+def face_of(patch, link, outward, offset, x0=None, x1=None):
+    """A `face` from a CAD plane patch (a vertical rectangle: normal in the xy plane), its
+    outward normal `outward` (link frame), shifted by `offset` along it. The rectangle is
+    the patch's bounding box, centred on the tabulated point; x0/x1 override its
+    extent along the link's x axis (for F4, see C4)."""
+    assert patch['kind'] == 'plane', patch['kind']
+    n = unit(outward)
+    assert abs(abs(np.dot(n, unit(patch['normal_local']))) - 1) < 1e-6 and abs(n[2]) < 1e-9
+    lo, hi = np.array(patch['bbox_local'][0]), np.array(patch['bbox_local'][1])
+    # The tabulated point is the rectangle's centre (4 decimals; the box has 3).
+    centre = np.array(patch['point_local'], float)
+    assert np.linalg.norm(centre - 0.5 * (lo + hi)) < ROUND, (patch, centre)
+    R = frame(n, np.cross([0, 0, 1.0], n))          # x horizontal in the face, y = +z
+    sx, sy = math.hypot(*(hi - lo)[:2]), (hi - lo)[2]
+    if x0 is not None:   # a face along the link's x axis: its extent x0..x1 (link frame)
+        assert abs(abs(R[0, 0]) - 1) < 1e-9
+        centre[0], sx = 0.5 * (x0 + x1), x1 - x0
+    return shape(link, 'face', centre + offset * n, R, size=fmt((sx + 2 * FACE_PAD, sy + 2 * FACE_PAD)))
+
+
+def cylinder_arc(link, centre, axis, r, length, a0, span):
+    """A `cylinder` (lateral surface) limited to the angles a0 + [0, span] (rad) about `axis`,
+    measured from the link frame's +x when axis is +z."""
+    R = frame(axis, [1.0, 0, 0])
+    return shape(link, 'cylinder', centre, R, radius='%.9g' % (r * MM), length='%.9g' % (length * MM),
+                 start='%.9g' % a0, span='%.9g' % span)
+
+
+def circle_angle(centre, r, y, side):
+    """Angle (rad) of the point of the circle (centre, r) at ordinate y, on the side
+    sign(x - x_centre) = side."""
+    dy = y - centre[1]
+    return math.atan2(dy, side * math.sqrt(max(0.0, r * r - dy * dy)))
+
+
+def links(cad):
+    return LINK_OF[cad['body1']], LINK_OF[cad['body2']]
+
+
+def outward_from_points(cad, on_body, patch):
+    """Outward normal (link frame of body on_body = 1 or 2) of that body's face: towards the
+    other body's nearest point at ON."""
+    p1, p2 = np.array(cad['on']['P1_world']), np.array(cad['on']['P2_world'])
+    d = (p2 - p1) if on_body == 1 else (p1 - p2)
+    link = links(cad)[on_body - 1]
+    n = np.array(patch['normal_local'], float)
+    n_world = pose(link)[1] @ n if link != 'world' else n
+    return n if np.dot(n_world, d) > 0 else -n
+
+
+def ring_face(name, cad_name, fs, ring_body, face_patch=None, x0=None, x1=None, outward=None):
+    """CAD edge-face contact: a ring (the arc patch of body ring_body) against a face."""
+    cad = CAD[cad_name]
+    la, lb = links(cad)
+    face_body = 3 - ring_body
+    arc = (cad['patch1'] if ring_body == 1 else cad['patch2'])[0]
+    fp = face_patch or (cad['patch1'] if face_body == 1 else cad['patch2'])[0]
+    n = outward_from_points(cad, face_body, fp) if outward is None else outward
+    ring = ring_of(arc, la if ring_body == 1 else lb)
+    face = face_of(fp, lb if ring_body == 1 else la, n, cad['offset'], x0, x1)
+    a, b = (ring, face) if ring_body == 1 else (face, ring)
+    return contact(name, cad['mu'] * fs, a, b)
+
+
+# Our contact names (those the scenes, scripts and tests read) for the CAD contacts; a CAD
+# contact with several point pairs keeps the bare name on the pair that carries the load at
+# ON (C4: the hook's half-ring on the seat F4) or on the first pair.
+C4_SEAT_X = (-0.45, 0.20)   # bar-local x of the seat F4 [D-code, model-facts 0; see contacts()]
+
+
+def contacts(bench, fs):
     out = []
-    # C1 handle ON stop [OWN position; Q-code: handle flat face vs case rings r 0.5]: a case
-    # pin r 0.5 (z 1.5..9.5) against a flat face of the handle at handle-local x = -1.0.
-    pin_local = np.array([-1.5, -5.0, 0.0])
-    pin = to_world('handle', pin_local)
-    n_face = pose('handle')[1] @ np.array([-1.0, 0, 0])
-    face_pt = to_world('handle', (-1.0, -5.0, 0.0))
-    out.append(contact('C1', 0.3 * fs, zcap('world', pin, 1.5, 9.5, 0.5), plane('handle', face_pt, n_face)))
+    # C1, the handle's ON stop [CAD rows 2-5]: handle face vs two case arcs r 0.5 (z -0.1),
+    # handle arcs r 0.463 / 0.5 vs the cover's stopper face (z 8.2..).
+    out.append(ring_face('C1', 'Case_handle_C1_ON_1', fs, ring_body=2))
+    out.append(ring_face('C1_2', 'Case_handle_C1_ON_2', fs, ring_body=2))
+    out.append(ring_face('C1_3', 'Cover_handle_C1_ON_3', fs, ring_body=1))
+    out.append(ring_face('C1_4', 'Cover_handle_C1_ON_4', fs, ring_body=1))
 
-    # C3 plate stop [OWN position; Q-code: case rings r 0.1 vs plate face]: stops the plate
-    # turning clockwise (closing over-travel); touches at ON, unloaded while latched.
-    q = np.array([-4.0, 6.0, 5.0])
-    u = unit(perp(q) * -1.0)                 # direction q moves when the plate turns clockwise
-    ring = q + 0.1 * np.append(u[:2], 0) * 1.0
-    out.append(contact('C3', 0.1 * fs, zcap('world', ring, 4.0, 6.0, 0.1), plane('plate', q, u)))
+    # C3, the plate's stop after the trip (closes at plate +22 deg), 3.8-4.7 mm open at ON
+    # [CAD rows 25-28]: plate face vs case arcs r 0.1; plate arcs r 0.1 vs a case face.
+    out.append(ring_face('C3', 'Plate_case_C3_ON_1', fs, ring_body=2))
+    out.append(ring_face('C3_2', 'Plate_case_C3_ON_2', fs, ring_body=2))
+    out.append(ring_face('C3_3', 'Plate_case_C3_ON_3', fs, ring_body=1))
+    out.append(ring_face('C3_4', 'Plate_case_C3_ON_4', fs, ring_body=1))
 
-    # C4 latch (hook nose on the bar's latch face) [OWN design, see latch_geometry].
-    N, n, P, t = latch_geometry()
-    zb0, zb1 = 7.1 - 0.5, 7.1 + 2.5        # bar-local z -0.5..2.5 [Q-code wedge z range]
-    centre = P - 0.5 * LATCH_DEPTH * n + 0.5 * (LATCH_ENGAGE - LATCH_BACK) * t
-    Rw = np.column_stack([np.append(t, 0), np.append(-n, 0), [0, 0, 1.0]])  # box axes in world
-    Rw[:, 1] = np.cross(Rw[:, 2], Rw[:, 0])
-    Rb = pose('trip_bar')[1].T @ Rw
-    box = shape('trip_bar', 'box', to_local('trip_bar', np.append(centre, 0.5 * (zb0 + zb1))), Rb,
-                size=fmt((LATCH_ENGAGE + LATCH_BACK, LATCH_DEPTH, zb1 - zb0)))
-    nose = zcap('hook', np.append(N, 0), 7.1, 9.1, 0.5)
-    out.append(contact('C4', 0.1 * fs, nose, box))
+    # C4, the latch [CAD rows 14-17; model-facts 0]. The bar's patch has four faces: F1 a
+    # cylinder r 5.9 (the tip's guide after release), F2 the plane x = 0.25, F3 a fillet
+    # r 0.045, F4 the seat y = 7.0 (bar material below). C4 / C4_2: the hook's vertical
+    # half-rings r 0.5 (z 0 and 2) on F4. F4 spans x -0.45..0.20 in the STEP face (uv_own);
+    # the authors' code clips it to x <= 0.14 (it reuses face 2's parameter box): we keep
+    # the STEP face. The same half-rings also meet F2, F3 and F1 (the CAD distance is the
+    # minimum over the four faces): one contact each.
+    for k, (nm, cadn) in enumerate([('C4', 'Hook_Tbar_C4_1'), ('C4_2', 'Hook_Tbar_C4_2')]):
+        cad = CAD[cadn]
+        f1, f2, f3, f4 = cad['patch2']
+        out.append(ring_face(nm, cadn, fs, ring_body=1, face_patch=f4, x0=C4_SEAT_X[0], x1=C4_SEAT_X[1]))
+        # F2: x = 0.25, bar material at x < 0.25 (outward +x; its tabulated normal is -x).
+        out.append(ring_face(nm + '_F2', cadn, fs, ring_body=1, face_patch=f2, outward=np.array([1.0, 0, 0])))
+        ring = ring_of(cad['patch1'][0], 'hook')
+        # F3: the fillet r 0.0451 about (0.197, 6.954), from F2's normal (+x) to F4's (+y).
+        out.append(contact(nm + '_F3', cad['mu'] * fs, ring, cylinder_arc(
+            'trip_bar', f3['centre_local'], [0, 0, 1.0], f3['radius'] + cad['offset'], 3.0, 0.0, math.pi / 2)))
+        # F1: r 5.9 about (5.9571, 4.8635), the material inside it; the arc runs between
+        # its ends at y 3.367 and 6.36 (bbox) on the side x < centre.
+        c1 = f1['centre_local']
+        a_lo = circle_angle(c1, f1['radius'], f1['bbox_local'][1][1], -1)   # y 6.36
+        a_hi = circle_angle(c1, f1['radius'], f1['bbox_local'][0][1], -1)   # y 3.367 (+ 2 pi)
+        span = (a_hi - a_lo) % (2 * math.pi)
+        assert abs(span - (f1['uv_own'][1] - f1['uv_own'][0])) < 2e-3
+        out.append(contact(nm + '_F1', cad['mu'] * fs, ring, cylinder_arc(
+            'trip_bar', c1, [0, 0, 1.0], f1['radius'] + cad['offset'], 3.0, a_lo, span)))
+    # C4_3 / C4_4: the hook flat against the bar's half-rings r 0.5 in the plane x = 0.25,
+    # whose apex is the tooth corner (0.25, 7.0).
+    out.append(ring_face('C4_3', 'Hook_Tbar_C4_3', fs, ring_body=2))
+    out.append(ring_face('C4_4', 'Hook_Tbar_C4_4', fs, ring_body=2))
 
-    # C5 [Q-code]: hook end face = arc r 5.63 about J3 (hook z -0.5..2.5) vs bar half rings
-    # r 0.48 at bar-local (-0.75, 7.2), z 0.3 and 2.0. Open at ON (gap 0.036 mm).
-    J3 = np.array([7.766977, 7.637695, 0.0])
-    ring5 = to_world('trip_bar', (-0.75, 7.2, 0.0))
-    out.append(contact('C5', 0.1 * fs, zcap('hook', J3, 6.6, 9.6, 5.63), zcap('trip_bar', ring5, 7.4, 9.1, 0.48)))
+    # C5, the bar's clockwise stop on the hook [CAD rows 29-30]: the hook's arc r 5.63 about
+    # J3 (hook z -0.5..2.5; its end at the tip, y -1.004 (bbox), span from uv_used) vs the
+    # bar's half-rings r 0.48 (130.75 deg) outside it. Offset 0.01 -> radius 5.64.
+    for nm, cadn in [('C5', 'Tbar_Hook_C5_1'), ('C5_2', 'Tbar_Hook_C5_2')]:
+        cad = CAD[cadn]
+        cyl = cad['patch1'][0]
+        span = cyl['uv_used'][1] - cyl['uv_used'][0]
+        a_end = circle_angle(cyl['centre_local'], cyl['radius'], cyl['bbox_local'][0][1], -1)
+        zc = 0.5 * (cyl['bbox_local'][0][2] + cyl['bbox_local'][1][2])
+        length = cyl['bbox_local'][1][2] - cyl['bbox_local'][0][2]
+        c = np.array([cyl['centre_local'][0], cyl['centre_local'][1], zc])
+        out.append(contact(nm, cad['mu'] * fs,
+                           cylinder_arc('hook', c, [0, 0, 1.0], cyl['radius'] + cad['offset'], length,
+                                        a_end - span, span),
+                           ring_of(cad['patch2'][0], 'trip_bar')))
 
-    # C6 [Q-code MC stopper circle r 0.2 at MC-local (-9.42, 0.04, 1.8)] vs a plate side face
-    # [OWN] placed so that it engages when the plate has turned DELTA_ON anticlockwise relative
-    # to the moving contact (the P3 reference angle of the public code).
-    s = to_world('moving_contact', (-9.42, 0.04, 1.8))
-    s_eng = rotz(-DELTA_ON / DEG) @ s     # the stopper where it meets the face (MC frame turned cw)
-    v = unit(perp(s_eng) * -1.0)          # its direction of travel (MC clockwise rel. plate)
-    face = s_eng + 0.2 * v
-    out.append(contact('C6', 0.1 * fs, zcap('moving_contact', s, 1.3, 2.3, 0.2), plane('plate', face, -v)))
+    # C6, the moving contact's side stop on the plate [CAD rows 31-34], about 1.04-1.15 mm
+    # open at ON: MC arcs r 0.2 vs a plate face; an MC face vs plate arcs r 0.15.
+    out.append(ring_face('C6', 'Mcontact_plate_C6_side_1', fs, ring_body=1))
+    out.append(ring_face('C6_2', 'Mcontact_plate_C6_side_2', fs, ring_body=1))
+    out.append(ring_face('C6_3', 'Mcontact_plate_C6_side_3', fs, ring_body=2))
+    out.append(ring_face('C6_4', 'Mcontact_plate_C6_side_4', fs, ring_body=2))
 
-    # C7 [D-code]: MC arc r 5.2 (z 3.5..5.5) vs the fixed contact plane, touching at ON.
-    c7 = geometry_points()['c7_centre']
-    out.append(contact('C7', 0.1 * fs, zcap('moving_contact', c7, 3.5, 5.5, 5.2),
-                       plane('world', (x_fixed, c7[1], 4.5), (1, 0, 0))))
+    # C7, the main contact [CAD row 24]: the MC's cylindrical arc r 5.2003 (z 3.5..5.5; its
+    # ends at y -5.193 and -4.588 (bbox), x < centre) vs the fixed contact, the case plane
+    # x = 1.5 facing +x, shifted by the offset 0.001. The face's bounds (y -22.3..-18.4,
+    # z 2.55..6.75) hold the arc's contact line; `cylinder` pairs only with the unbounded
+    # `plane`, which gives the arc's two end rims.
+    cad = CAD['Mcontact_Fcontact_bot_1_C7']
+    cyl, pl = cad['patch1'][0], cad['patch2'][0]
+    out.append(contact('C7', cad['mu'] * fs, c7_arc(), shape(
+        'world', 'plane', np.array(pl['point_local']) + cad['offset'] * np.array([1.0, 0, 0]),
+        frame([1.0, 0, 0], [0, 1.0, 0]))))
 
-    # TRIP [Q-code bar circles r 6.0, z -1.2..1.4 bar-local; OWN centre so the contact is on
-    # the probe axis y = -8.9]: bar arm vs the probe's end face, 0.01 mm apart at ON [Q-code].
-    arm = np.array([1.0, -8.9, 0.0])
-    out.append(contact('TRIP', 0.1 * fs, zcap('trip_bar', arm, 5.9, 8.5, 6.0),
-                       plane('probe', (-5.01, -8.9, 4.65), (1, 0, 0))))
-    # FC: bar arm vs the case wall x = -5 [Q-code], touching at ON: the bar's clockwise stop.
-    out.append(contact('FC', 0.3 * fs, zcap('trip_bar', arm, 5.9, 8.5, 6.0),
-                       plane('world', (-5.0, -8.9, 4.65), (1, 0, 0))))
+    # TRIP [CAD rows 35-36]: the bar's arcs r 6.0 (53.18 deg, bar z -1.2 and +1.4) against
+    # the probe's flat end, a 6.2 x 6.18 face at probe-local x = -0.9 facing world +x,
+    # shifted 0.01 (offset). TRIP is the CAD's TRIP_2 (z -1.2, the one that touches);
+    # TRIP_upper the CAD's TRIP_1 (z 1.4): it lies above the probe face and never touches.
+    out.append(ring_face('TRIP', 'TRIP_2', fs, ring_body=1))
+    out.append(ring_face('TRIP_upper', 'TRIP_1', fs, ring_body=1))
+
+    # FC, the bar's clockwise end stop [CAD row 37]: the bar's cylindrical arc r 6.0 (bar z
+    # -1.2..2.9; ends at y -2.085 and 0.826 (bbox), x < centre) vs the case plane x = -5.0
+    # facing +x, shifted by 0.001. Open by 0.388 mm at ON.
+    cad = CAD['Tbar_Magnetic_FC_X']
+    cyl, pl = cad['patch1'][0], cad['patch2'][0]
+    a0 = circle_angle(cyl['centre_local'], cyl['radius'], cyl['bbox_local'][1][1], -1)
+    a1 = circle_angle(cyl['centre_local'], cyl['radius'], cyl['bbox_local'][0][1], -1)
+    assert abs((a1 - a0) - (cyl['uv_used'][1] - cyl['uv_used'][0])) < 2e-3
+    zc = 0.5 * (cyl['bbox_local'][0][2] + cyl['bbox_local'][1][2])
+    c = np.array([cyl['centre_local'][0], cyl['centre_local'][1], zc])
+    out.append(contact('FC', cad['mu'] * fs,
+                       cylinder_arc('trip_bar', c, [0, 0, 1.0], cyl['radius'], cyl['bbox_local'][1][2] -
+                                    cyl['bbox_local'][0][2], a0, a1 - a0),
+                       shape('world', 'plane', np.array(pl['point_local']) + cad['offset'] * np.array([1.0, 0, 0]),
+                             frame([1.0, 0, 0], [0, 1.0, 0]))))
 
     if bench:
-        # TABLE [OWN]: the table face pushes the MC arc in the C7 band (z 3.5..5.5), starting
-        # 1 um behind the fixed contact's plane (so the breaker settles on C7 first);
-        # frictionless, so the hysteresis comes from the joints only.
-        out.append(contact('TABLE', 0.0, zcap('moving_contact', c7, 3.5, 5.5, 5.2),
-                           plane('table', (x_fixed - TABLE_GAP, c7[1], 4.5), (1, 0, 0))))
+        # TABLE [OWN]: the table face pushes the C7 arc, starting TABLE_GAP behind the fixed
+        # contact's plane (so the breaker settles on C7 first); frictionless, so the
+        # hysteresis comes from the joints only.
+        out.append(contact('TABLE', 0.0, c7_arc(), shape('table', 'plane', (0, 0, 0), frame([1.0, 0, 0], [0, 1.0, 0]))))
     return out
+
+
+def c7_arc():
+    """The moving contact's arc of C7 [CAD row 24] as a `cylinder` with start/span."""
+    cyl = CAD['Mcontact_Fcontact_bot_1_C7']['patch1'][0]
+    c, r = cyl['centre_local'], cyl['radius']
+    a0 = circle_angle(c, r, cyl['bbox_local'][0][1], -1)   # y -5.193
+    a1 = circle_angle(c, r, cyl['bbox_local'][1][1], -1)   # y -4.588
+    a0, a1 = min(a0, a1), max(a0, a1)
+    assert abs((a1 - a0) - (cyl['uv_used'][1] - cyl['uv_used'][0])) < 2e-3
+    zc = 0.5 * (cyl['bbox_local'][0][2] + cyl['bbox_local'][1][2])
+    return cylinder_arc('moving_contact', (c[0], c[1], zc), [0, 0, 1.0], r,
+                        cyl['bbox_local'][1][2] - cyl['bbox_local'][0][2], a0, a1 - a0)
+
+
+def c7_plane_x():
+    """World x of the fixed contact's plane as modelled (CAD plane + offset)."""
+    cad = CAD['Mcontact_Fcontact_bot_1_C7']
+    return cad['patch2'][0]['point_local'][0] + cad['offset']
+
 
 # --------------------------------------------------------------------------- visuals
 
@@ -533,7 +660,7 @@ def body_visuals(name):
         v.append(cyl_at(name, (0, 0), 0.5, 3.8, 1.8, 'mc'))
         v.append(bar_between(name, (0, 0), to_world('moving_contact', (-9.42, 0.04, 0)), 2.0, 1.5, 1.8, 'mc'))
     elif name == 'trip_bar':
-        N, n, P, t = latch_geometry()
+        P = to_world('trip_bar', (-0.125, 7.0, 0))   # the latch seat F4
         v.append(cyl_at(name, J['J4'], 7.3, 11.2, 1.6, 'bar'))
         v.append(bar_between(name, J['J4'], (1.0, -8.9), 2.0, 2.6, 7.2, 'bar'))
         v.append(bar_between(name, J['J4'], P, 2.0, 3.0, 8.1, 'bar'))

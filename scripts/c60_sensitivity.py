@@ -40,11 +40,14 @@ def main():
         t = load(os.path.join(out, 'sens_%s_trip.json' % key))
         rb = run_json(os.path.join(out, 'sens_%s_bench.run.json' % key))
         rt = run_json(os.path.join(out, 'sens_%s_trip.run.json' % key))
-        rows.append('| %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
+        rows.append('| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
             label, cs, fs,
             fmt(b and b['equilibrium_force_N']),
             fmt(b and b['hysteresis_mean_N'], '%.3f') + (' (noise)' if key in noisy else ''),
             fmt(t and t['peak_force_N']),
+            fmt(t and t['probe_touch_s'] and 1e3 * t['probe_touch_s'], '%.2f'),
+            fmt(t and t['corner_takes_load_s'] and 1e3 * t['corner_takes_load_s'], '%.2f'),
+            fmt(t and t['latch_release_s'] and 1e3 * t['latch_release_s'], '%.2f'),
             fmt(t and t['c7_open_s'] and 1e3 * t['c7_open_s'], '%.2f'),
             fmt(rb and rb['wall_s'], '%.0f') + ' / ' + fmt(rt and rt['wall_s'], '%.0f'),
             fmt(max((r['max_penetration'] for r in (rb, rt) if r), default=None), '%.2g')))
@@ -57,40 +60,45 @@ scaled, or every friction coefficient. The calibrated P3 preload is kept in ever
 Clearance x0 (ideal joints) is not in the table: small clearances break this engine on this
 scene.
 
-- **x0.1 (4.5-8.5 um; S3 0.6 um).** Trip, engine of 2026-11-22 afternoon (predicted
-  contact rows, least-distance projection fallback): max penetration 3.2 um (5 times the
-  S3 clearance), "peak tripping force" 324 N, C7 opens at 5.5 ms, 130 unconverged steps,
-  140 s wall. With the morning's engine: 10.8 um, 68.6 N, 5.1 ms, 23 unconverged steps,
-  78 s. The nearly rigid, over-constrained loop defeats both the velocity solver and the
-  position projection.
-- **Ideal joints** (the `<clearance>` elements removed, so J1-J7 and S3 are bilateral
-  revolute joints; morning's engine, not re-run). In 3D the loop is hyperstatic: 58% of the steps do not converge and the
-  penetration reaches 0.24 mm. In planar mode (`--set planar=true`), 35% of the steps do not
-  converge and the penetration reaches 0.9 um. Neither is a result.
-- **x0.2 (9-17 um; S3 1.2 um)** is the smallest scale that runs without penetration
-  (1 nm). Its bench force still varies by +-0.18 N during the hold (15.53-15.88 N), at 20
-  solver sweeps per step on average (300 with the morning's engine) and 31 unconverged
-  steps of 5400. Its "hysteresis" (0.151 N, in line with the other scales) is kept marked
-  as noise. Its trip's largest probe force, 11.8 N, comes at 0.41 mm of travel, before
-  the latch's quasi-static peak: the stiffer loop rings after the first contact.
-- **x0.5** is the smallest scale where both runs are clean. Its bench equilibrium force is
-  not unique, though: engine builds that differ only in round-off gave 15.28, 15.51, 15.54,
-  15.57 and 15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
+- **x0.1 (4.5-8.5 um; S3 0.6 um)** and **ideal joints**: not re-run with the CAD
+  contacts. With the earlier, invented contacts (engine of 2026-11-22) x0.1 gave 3.2 um of
+  penetration (5 times the S3 clearance), a 324 N "peak tripping force" and 130
+  unconverged steps; ideal joints (the `<clearance>` elements removed) left 58 % of the
+  steps unconverged in 3D (0.24 mm of penetration) and 35 % in planar mode. Neither was a
+  result.
+- **x0.2 (9-17 um; S3 1.2 um)** runs without penetration (1 nm) with the CAD contacts; its
+  bench force still moves during the hold, so its "hysteresis" stays marked as noise.
+- **The order of events.** The published order (touch, then the tooth corner takes the
+  load, then release, then C7 opens) holds at clearances x0.2, x0.5, x1 and friction x1.5.
+  At clearances x2 and friction x0.5 the corner takes the load already while the
+  mechanism settles (0.5 / 0.4 ms), before the probe arrives: the friction on the seat F4
+  does not hold the bar through the settling in these two cases (not analysed further).
+  The latch then rests on the corner and still releases after the touch.
+- **Clearance and the trip.** Larger clearances delay the touch, the release and the
+  opening (the settling turns the bar further from the probe) and barely change the
+  tripping force.
+- **Friction and the trip.** The tripping force grows with friction (the probe works
+  against the friction on the seat F4 and at the tooth corner, mu 0.2 there): peak 1.16 /
+  2.15 / 3.62 N at friction x0.5 / x1 / x1.5.
+- **x0.5** bench: with the earlier contacts, engine builds that differed only in round-off
+  gave 15.28-15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
 
 The engine issue is reported in docs/c60.md.
 
 - equilibrium force: table force held at 2.0 mm (paper: 15.28 N measured, 14.96 N simulated);
 - hysteresis: mean forward - backward table force over 0.2-1.8 mm;
-- peak tripping force: largest probe force after 0.02 mm of contact travel (the first-contact
-  impact is excluded; see docs/c60.md);
+- peak tripping force: largest probe force from 0.02 mm of contact travel to the latch
+  release (the first-contact impact and later hits of the bar swinging back are excluded;
+  see docs/c60.md);
+- latch release: every C4 pair open by more than 20 um;
 - opening time: time at which the moving contact leaves the fixed contact (C7) for good,
   with the probe starting at 0.7 ms;
 - wall times: on a 2-core machine shared with other jobs, under varying load, so they are
   not comparable with each other. On an idle machine the nominal bench takes about 6 s and
   the trip about 1 s.
 
-| case | clearance scale | friction scale | equilibrium force [N] | hysteresis [N] | peak tripping force [N] | C7 opens [ms] | wall bench / trip [s] | max penetration [m] |
-|---|---|---|---|---|---|---|---|---|
+| case | clearance scale | friction scale | equilibrium force [N] | hysteresis [N] | peak tripping force [N] | touch [ms] | corner takes the load [ms] | latch release [ms] | C7 opens [ms] | wall bench / trip [s] | max penetration [m] |
+|---|---|---|---|---|---|---|---|---|---|---|---|
 ''' + '\n'.join(rows) + '\n'
     with open(doc, 'w') as f:
         f.write(text)

@@ -398,6 +398,7 @@ TEST(SceneLoader, AttachmentsAreConvertedToTheBodyFrame) {
     <actuator name="servo" type="position" joint="hinge" kp="2" kd="0.1" max_effort="5"/>
     <actuator name="servo2" type="position" joint="hinge" command="-1"/>
     <actuator name="drive" type="prescribed" joint="hinge"/>
+    <actuator name="twist" type="torque" link="tip" axis="2 0 0" schedule="0:-0.5,1e-3:-0.5,1e-3:0"/>
     <spring name="tors" type="torsion" joint="hinge" stiffness="0.5"/>
     <contact name="c"><shape link="tip" type="sphere" radius="0.01"><origin xyz="0 0 0.02"/></shape>
       <shape link="world" type="plane"/></contact>
@@ -434,6 +435,17 @@ TEST(SceneLoader, AttachmentsAreConvertedToTheBodyFrame) {
   EXPECT_DOUBLE_EQ(m.actuators[m.findActuator("servo2")].initial_command, -1.0);
   EXPECT_DOUBLE_EQ(m.actuators[m.findActuator("drive")].initial_command, 0.25);
   EXPECT_EQ(m.actuators[m.findActuator("drive")].joint, findJoint(m, "hinge"));
+  EXPECT_TRUE(m.actuators[m.findActuator("drive")].schedule.empty());
+  // Torque: its axis (link x) in the body frame, normalised; the schedule as written.
+  const Actuator& twist = m.actuators[m.findActuator("twist")];
+  EXPECT_EQ(twist.type, ActuatorType::Torque);
+  EXPECT_EQ(twist.body, 0);
+  EXPECT_LT((twist.direction - rz.conjugate() * Vec3::UnitX()).norm(), kTight);
+  EXPECT_DOUBLE_EQ(twist.initial_command, 0.0);
+  ASSERT_EQ(twist.schedule.size(), 3u);
+  EXPECT_EQ(twist.schedule[0], std::make_pair(0.0, -0.5));
+  EXPECT_EQ(twist.schedule[1], std::make_pair(1e-3, -0.5));
+  EXPECT_EQ(twist.schedule[2], std::make_pair(1e-3, 0.0));
   // Torsion spring: between the joint's bodies, rest angle from the URDF zero.
   ASSERT_EQ(m.springs.size(), 1u);
   EXPECT_EQ(m.springs[0].type, SpringType::Torsion);
@@ -546,6 +558,7 @@ const BadCase kBad[] = {
     {"20_initial_unknown_joint.urdf", 19, "unknown joint 'hinj'"},
     {"21_ring_span_too_large.urdf", 18, "attribute 'span' of <shape> must be in (0, 6.28"},
     {"22_face_size_one_number.urdf", 19, "attribute 'size' of <shape> type 'face': expected 2 numbers, got '0.2'"},
+    {"23_actuator_schedule_decreasing.urdf", 17, "attribute 'schedule' of <actuator>: schedule 'seat=0:-0.015,0.002:-0.015,0.001:0': times must not decrease"},
 };
 
 TEST(SceneLoaderBad, EachBadSceneIsRefusedWithFileLineAndReason) {

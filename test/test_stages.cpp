@@ -198,4 +198,16 @@ TEST(Stages, CommandSchedules) {
   EXPECT_THROW(bindCommandSchedules({"nosuch=0:0"}, m), std::invalid_argument);
   EXPECT_THROW(bindCommandSchedules({"m=0:0", "m=1:1"}, m), std::invalid_argument);
   EXPECT_THROW(parseCommandSchedule("m=1:0,0:1"), std::invalid_argument);
+  // The scene's own schedule is bound when no text names the actuator, and a text
+  // replaces it.
+  const Model ms = boxScene("<actuator name=\"m\" type=\"position\" joint=\"j\" kp=\"1\" schedule=\"0:3,1:4\"/>",
+                            "revolute");
+  const auto own = bindCommandSchedules({}, ms);
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_EQ(own[0].actuator, 0);
+  EXPECT_EQ(own[0].schedule.actuator, "m");
+  EXPECT_NEAR(own[0].schedule.value(0.5), 3.5, 1e-15);
+  const auto over = bindCommandSchedules({"m=0:7"}, ms);
+  ASSERT_EQ(over.size(), 1u);
+  EXPECT_EQ(over[0].schedule.value(0.5), 7.0);
 }

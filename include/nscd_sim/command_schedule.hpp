@@ -30,10 +30,12 @@ struct BoundSchedule {
   CommandSchedule schedule;
 };
 
-// Parses each text and binds it to the model's actuator of that name. Throws
+// Parses each text and binds it to the model's actuator of that name, then adds
+// the scene's own schedules (Actuator::schedule) of the actuators no text names:
+// a text overrides the scene's schedule of its actuator. Throws
 // std::invalid_argument with a one-line message on a malformed schedule, an
 // actuator the scene does not have ("the scene has no actuator 'x' (actuators:
-// a, b)") or two schedules for one actuator.
+// a, b)") or two texts for one actuator.
 std::vector<BoundSchedule> bindCommandSchedules(const std::vector<std::string>& texts,
                                                 const Model& model);
 

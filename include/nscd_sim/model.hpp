@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nscd_sim/types.hpp"
@@ -132,19 +133,23 @@ struct Spring {
   SourceRef src;
 };
 
-enum class ActuatorType { Position, Prescribed, Force };
+enum class ActuatorType { Position, Prescribed, Force, Torque };
 
 struct Actuator {
   std::string name;
   ActuatorType type = ActuatorType::Position;
   int joint = -1;     // position; prescribed with joint=
-  int body = kGround; // prescribed with link=; force
+  int body = kGround; // prescribed with link=; force; torque
   Vec3 axis = Vec3::UnitX();       // prescribed link: unit direction, world frame
   Vec3 point = Vec3::Zero();       // force: application point, body frame
-  Vec3 direction = Vec3::UnitX();  // force: unit direction, body frame
+  Vec3 direction = Vec3::UnitX();  // force: unit direction; torque: unit axis; body frame
   double kp = 0, kd = 0;
   double max_effort = 0;           // 0 = unlimited
   double initial_command = 0;
+  // The scene's command schedule (`schedule` attribute): (time, value) points, times
+  // non-decreasing; empty = none. bindCommandSchedules binds it unless a front-end
+  // schedule (nscd_run --command, the node's ~schedule) names the same actuator.
+  std::vector<std::pair<double, double>> schedule;
   SourceRef src;
 };
 

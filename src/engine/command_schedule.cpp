@@ -79,6 +79,19 @@ std::vector<BoundSchedule> bindCommandSchedules(const std::vector<std::string>& 
         throw std::invalid_argument("two schedules for actuator '" + b.schedule.actuator + "'");
     out.push_back(std::move(b));
   }
+  // The scene's own schedules, for the actuators the texts leave alone.
+  for (size_t i = 0; i < model.actuators.size(); ++i) {
+    const Actuator& a = model.actuators[i];
+    if (a.schedule.empty()) continue;
+    bool overridden = false;
+    for (const BoundSchedule& other : out) overridden = overridden || other.actuator == static_cast<int>(i);
+    if (overridden) continue;
+    BoundSchedule b;
+    b.actuator = static_cast<int>(i);
+    b.schedule.actuator = a.name;
+    b.schedule.points = a.schedule;
+    out.push_back(std::move(b));
+  }
   return out;
 }
 

@@ -126,9 +126,14 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
   }
   const Vec3 g = m.settings.gravity;
   for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
-  // Force actuators: explicit.
+  // Force and torque actuators: explicit.
   for (size_t i = 0; i < m.actuators.size(); ++i) {
     const Actuator& ac = m.actuators[i];
+    if (ac.type == ActuatorType::Torque) {  // a pure moment about a body-fixed axis
+      ws.F.segment<3>(6 * ac.body + 3) += commands[i] * ac.direction;
+      out.actuator_effort[i] = commands[i];
+      continue;
+    }
     if (ac.type != ActuatorType::Force) continue;
     const BodyState& b = s.bodies[ac.body];
     const Vec3 f = b.q * (commands[i] * ac.direction);

@@ -1,5 +1,8 @@
-// <actuator>: a PD position drive, a prescribed motion, or a force; its command
-// comes from a topic or a schedule.
+// <actuator>: a PD position drive, a prescribed motion, a force or a torque; its
+// command comes from a topic or a schedule (the scene's own, or a front end's).
+#include <stdexcept>
+
+#include "nscd_sim/command_schedule.hpp"
 #include "scene_build.hpp"
 
 namespace nscd {
@@ -68,10 +71,27 @@ void readActuator(SceneBuild& sb, const XMLElement* e) {
     const Vec3 d = reqVec3(sb.c, e, "direction");
     if (!(d.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": direction must be non-zero");
     a.direction = sb.links[l].in_body.rotate(d).normalized();
+  } else if (type == "torque") {
+    checkAttributes(sb.c, e, vocabularyOf("actuator", "torque").attributes);
+    a.type = ActuatorType::Torque;
+    if (!has(e, "link")) sb.c.fail(e->GetLineNum(), what + " (torque) needs attribute 'link'");
+    const int l = actuatedBody(sb, e, what);
+    a.body = sb.links[l].body;
+    const Vec3 ax = reqVec3(sb.c, e, "axis");
+    if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
+    a.direction = sb.links[l].in_body.rotate(ax).normalized();
   } else {
-    sb.c.fail(e->GetLineNum(), what + ": unknown actuator type " + squote(type) + " (position, prescribed, force)");
+    sb.c.fail(e->GetLineNum(), what + ": unknown actuator type " + squote(type) + " (position, prescribed, force, torque)");
   }
   a.initial_command = optNumber(sb.c, e, "command", a.initial_command);
+  if (has(e, "schedule")) {
+    // The format of nscd_run --command, without the NAME= part.
+    try {
+      a.schedule = parseCommandSchedule(a.name + "=" + reqString(sb.c, e, "schedule")).points;
+    } catch (const std::invalid_argument& err) {
+      sb.c.fail(e->GetLineNum(), "attribute 'schedule' of <actuator>: " + std::string(err.what()));
+    }
+  }
   a.src = SourceRef{sb.c.file, e->GetLineNum()};
   sb.m.actuators.push_back(a);
 }

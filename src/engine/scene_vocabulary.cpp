@@ -31,9 +31,10 @@ const std::vector<SceneElementVocabulary>& sceneVocabulary() {
         {"spring", "linear", "nscd", {"name", "type", "stiffness", "rest_length", "damping"}, {"end"}},
         {"end", "", "spring", {"link", "xyz"}, {}},
         {"spring", "torsion", "nscd", {"name", "type", "joint", "stiffness", "rest_angle", "damping"}, {}},
-        {"actuator", "position", "nscd", {"name", "type", "joint", "kp", "kd", "max_effort", "command"}, {}},
-        {"actuator", "prescribed", "nscd", {"name", "type", "link", "joint", "axis", "command"}, {}},
-        {"actuator", "force", "nscd", {"name", "type", "link", "xyz", "direction", "command"}, {}},
+        {"actuator", "position", "nscd", {"name", "type", "joint", "kp", "kd", "max_effort", "command", "schedule"}, {}},
+        {"actuator", "prescribed", "nscd", {"name", "type", "link", "joint", "axis", "command", "schedule"}, {}},
+        {"actuator", "force", "nscd", {"name", "type", "link", "xyz", "direction", "command", "schedule"}, {}},
+        {"actuator", "torque", "nscd", {"name", "type", "link", "axis", "command", "schedule"}, {}},
         {"simulation", "", "nscd", settingKeys(), {}},
     };
     return t;

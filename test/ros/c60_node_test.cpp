@@ -1,8 +1,8 @@
 // rostest: nscd_sim_node runs the C-60 breaker (urdf/c60.urdf).
 // c60_node.test: it rests latched and ~handle/command (towards OFF) opens the
 // contacts. c60_trip.test: the ~schedule parameter drives the probe (the trip
-// scenario of scripts/c60_trip.sh) and the breaker trips in the same window as
-// nscd_run (C7 opens at 7.46 ms there).
+// scenario of scripts/c60_trip.sh) and the breaker trips at the same step as the
+// engine in-process (C7 opens at 9.9 ms in nscd_run).
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -33,6 +33,14 @@ bool hasContact(const nscd_sim::ContactArray& m, const std::string& name) {
   return false;
 }
 
+// Any point of the latch: C4 is a group of pairs (C4, C4_2, ... docs/c60.md); at
+// rest the tooth corner (C4_3, C4_4) or the seat (C4, C4_2) carries it.
+bool latchClosed(const nscd_sim::ContactArray& m) {
+  for (const auto& c : m.contacts)
+    if (c.name == "C4" || c.name.rfind("C4_", 0) == 0) return true;
+  return false;
+}
+
 std::unique_ptr<nscd_test::SteppedNode> g_node;
 
 // Steps the paused node in chunks of `chunk` steps until `pred` holds for the
@@ -47,15 +55,16 @@ nscd_sim::ContactArrayConstPtr stepUntil(uint32_t chunk, uint32_t max_steps,
   return {};
 }
 
-// The same run in-process: steps until the named contact has no active point
-// (C7 open); the sim time then, or NaN after max_steps.
+// The same run in-process: steps until, after sim time `after`, the named contact
+// has no active point (C7 open); the sim time then, or NaN after max_steps.
 double inProcessOpening(nscd::Simulator& sim, uint32_t chunk, uint32_t max_steps,
-                        const std::function<void(nscd::Simulator&)>& before_step) {
+                        const std::function<void(nscd::Simulator&)>& before_step, double after = 0) {
   for (uint32_t taken = 0; taken < max_steps; taken += chunk) {
     for (uint32_t i = 0; i < chunk; ++i) {
       before_step(sim);
       sim.step();
     }
+    if (sim.state().t <= after) continue;
     bool c7 = false;
     for (const nscd::ContactReport& r : sim.contactPoints())
       c7 = c7 || (!r.clearance && sim.model().contacts[r.source].name == "C7");
@@ -77,7 +86,7 @@ TEST(C60Node, RestsLatchedAndHandleCommandOpensContacts) {
   ASSERT_TRUE(on) << "no ~contacts after 200 steps";
   EXPECT_GT(normalForce(*on, "C7"), 10.0) << "contact pressure at rest";
   EXPECT_LT(normalForce(*on, "C7"), 20.0);
-  EXPECT_TRUE(hasContact(*on, "C4")) << "latch C4 not closed at rest";
+  EXPECT_TRUE(latchClosed(*on)) << "latch C4 not closed at rest";
   const double angle0 = g_node->yaw("handle");
   ASSERT_TRUE(std::isfinite(angle0));
 
@@ -92,9 +101,16 @@ TEST(C60Node, RestsLatchedAndHandleCommandOpensContacts) {
   for (size_t i = 0; i < sim.model().actuators.size(); ++i)
     if (sim.model().actuators[i].name == "handle") handle = static_cast<int>(i);
   ASSERT_GE(handle, 0);
-  for (int i = 0; i < 200; ++i) sim.step();
+  // The scene's own schedule (the bar's seating moment), as the node applies it.
+  const auto own = nscd::bindCommandSchedules({}, sim.model());
+  const double dt = sim.model().settings.dt;
+  auto scheduled = [&](nscd::Simulator& s) { nscd::applySchedules(own, s.state().t + dt, s); };
+  for (int i = 0; i < 200; ++i) {
+    scheduled(sim);
+    sim.step();
+  }
   sim.setCommand(handle, 1.2);
-  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1200, [](nscd::Simulator&) {}))
+  EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1200, scheduled))
       << "the node and the engine open C7 at different steps";
 
   auto later = g_node->step(300, 60.0);
@@ -103,30 +119,33 @@ TEST(C60Node, RestsLatchedAndHandleCommandOpensContacts) {
   EXPECT_GT(g_node->yaw("handle") - angle0, 0.5) << "handle did not turn towards OFF";
 }
 
-// ~schedule: probe still until 0.7 ms, then 0.2 m/s. The latch holds before the
-// probe arrives, the contacts open between 6 and 9 ms (nscd_run: 7.46 ms), at the
-// same step as the engine run in-process with the same schedule.
+// ~schedule: probe still until 0.7 ms, then 0.2 m/s. The latch holds until the
+// probe has touched the bar (TRIP), the contacts open after that and within 13 ms
+// (nscd_run: 9.9 ms), at the same step as the engine run in-process with the same
+// schedule.
 TEST(C60Node, ProbeScheduleTripsTheBreaker) {
   auto early = g_node->step(300, 60.0);  // 3 ms
   ASSERT_TRUE(early);
   EXPECT_GT(normalForce(*early, "C7"), 10.0) << "opened before the probe arrived";
+  EXPECT_TRUE(latchClosed(*early));
+  auto touch = stepUntil(10, 1000, [](const nscd_sim::ContactArray& m) { return hasContact(m, "TRIP"); });
+  ASSERT_TRUE(touch) << "the probe never touched the bar";
+  EXPECT_GT(normalForce(*touch, "C7"), 10.0) << "opened before the probe touched the bar";
   auto open = stepUntil(10, 1000, [](const nscd_sim::ContactArray& m) { return !hasContact(m, "C7"); });
-  ASSERT_TRUE(open) << "the breaker did not trip within 13 ms";
-  EXPECT_GT(open->sim_time, 0.006);
-  EXPECT_LT(open->sim_time, 0.009);
+  ASSERT_TRUE(open) << "the breaker did not trip";
+  EXPECT_GT(open->sim_time, touch->sim_time);
+  EXPECT_LT(open->sim_time, 0.013);
 
+  // In-process, the schedules bound as nscd_run and the node bind them: the probe's,
+  // and the scene's own (the bar's seating moment).
   nscd::Simulator sim(nscd::loadScene(nscd_test::sceneParam()));
-  const nscd::CommandSchedule probe =
-      nscd::parseCommandSchedule("probe=0:0,0.0007:0,0.0207:0.004");
-  int actuator = -1;
-  for (size_t i = 0; i < sim.model().actuators.size(); ++i)
-    if (sim.model().actuators[i].name == "probe") actuator = static_cast<int>(i);
-  ASSERT_GE(actuator, 0);
+  const auto schedules = nscd::bindCommandSchedules({"probe=0:0,0.0007:0,0.0207:0.004"}, sim.model());
+  ASSERT_EQ(schedules.size(), 2u);
   const double dt = sim.model().settings.dt;
   // As the node and nscd_run: the command at the end of the step.
   EXPECT_EQ(open->sim_time, inProcessOpening(sim, 10, 1300, [&](nscd::Simulator& s) {
-              s.setCommand(actuator, probe.value(s.state().t + dt));
-            }))
+              nscd::applySchedules(schedules, s.state().t + dt, s);
+            }, touch->sim_time))
       << "the node and the engine open C7 at different steps";
 }
 
