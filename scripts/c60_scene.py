@@ -250,6 +250,8 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5):
         w('      <origin xyz="%s" rpy="%s"/><axis xyz="0 0 1"/>' % (fmt(xyz), fmt_rpy(Rp)))
         w('    </joint>')
     for (jn, parent, child, journal, axy, ringz, rj, cr, mu) in joints():
+        if cscale == 0:
+            continue  # clearance x0: the ideal revolute joint, its 5 bilateral rows
         L = ringz[1] - ringz[0]
         crs = max(cr * cscale, MIN_CLEARANCE)
         w('    <clearance joint="%s" journal="%s" radius="%.9g" radial="%.9g" length="%.9g" axial="%.9g"'
@@ -677,10 +679,11 @@ def body_visuals(name):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--out', help='write one scene (the options below) to this file')
-    ap.add_argument('--out-dir', help='write the shipped scenes (c60.urdf, c60_bench.urdf) here '
-                    'instead of the repository\'s urdf/')
+    ap.add_argument('--out-dir', help='write the shipped scenes (c60.urdf, c60_bench.urdf, '
+                    'c60_ideal.urdf, c60_bench_ideal.urdf) here instead of the repository\'s urdf/')
     ap.add_argument('--bench', action='store_true')
-    ap.add_argument('--clearance-scale', type=float, default=1.0)
+    ap.add_argument('--clearance-scale', type=float, default=1.0,
+                    help='scale of every joint clearance; 0: ideal revolute joints (c60_ideal.urdf)')
     ap.add_argument('--friction-scale', type=float, default=1.0)
     ap.add_argument('--p3-rest', type=float)
     ap.add_argument('--dt', type=float, default=1e-5)
@@ -699,9 +702,10 @@ def main():
             f.write(text)
         return
     out_dir = a.out_dir or os.path.join(repo, 'urdf')
-    for bench, fn in [(False, 'c60.urdf'), (True, 'c60_bench.urdf')]:
+    for bench, cscale, fn in [(False, 1.0, 'c60.urdf'), (True, 1.0, 'c60_bench.urdf'),
+                              (False, 0.0, 'c60_ideal.urdf'), (True, 0.0, 'c60_bench_ideal.urdf')]:
         with open(os.path.join(out_dir, fn), 'w') as f:
-            f.write(build(bench))
+            f.write(build(bench, cscale))
 
 
 if __name__ == '__main__':

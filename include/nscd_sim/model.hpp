@@ -211,6 +211,11 @@ struct Model {
       if (actuators[i].name == name) return static_cast<int>(i);
     return -1;
   }
+  int findContact(const std::string& name) const {
+    for (size_t i = 0; i < contacts.size(); ++i)
+      if (contacts[i].name == name) return static_cast<int>(i);
+    return -1;
+  }
 };
 
 }  // namespace nscd
