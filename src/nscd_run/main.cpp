@@ -166,7 +166,7 @@ int main(int argc, char** argv) {
   const double energy_initial = sim->energy().total();
   ProgressBar progress(!quiet && isatty(2), steps * h);
   long iters_sum = 0;
-  int iters_max = 0, unconverged = 0;
+  int iters_max = 0, unconverged = 0, frictionless_fallbacks = 0, energy_capped = 0;
   double residual_max = 0, max_pen = 0;
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] {
@@ -182,6 +182,8 @@ int main(int argc, char** argv) {
     if (std::isfinite(s.residual)) residual_max = std::max(residual_max, s.residual);
     max_pen = std::max(max_pen, s.max_penetration);
     if (st == nscd::StepStatus::NotConverged) ++unconverged;
+    frictionless_fallbacks += s.frictionless_fallback;
+    energy_capped += s.energy_capped;
     if (st == nscd::StepStatus::NonFinite) {
       progress.finish(sim->state().t, wall());
       std::cerr << "nscd_run: simulation failed at t=" << sim->state().t
@@ -204,6 +206,8 @@ int main(int argc, char** argv) {
             << ",\"iters_mean\":" << jsonNumber(done > 0 ? double(iters_sum) / done : 0.0)
             << ",\"iters_max\":" << iters_max << ",\"residual_max\":" << jsonNumber(residual_max)
             << ",\"unconverged_steps\":" << unconverged
+            << ",\"frictionless_fallbacks\":" << frictionless_fallbacks
+            << ",\"energy_capped_steps\":" << energy_capped
             << ",\"max_penetration\":" << jsonNumber(max_pen)
             << ",\"energy_initial\":" << jsonNumber(energy_initial)
             << ",\"energy_final\":" << jsonNumber(sim->energy().total()) << "}" << std::endl;

@@ -315,6 +315,10 @@ int fromNscd(const char* in, const char* out, const std::string& title, const st
   }
   (void)nc;
   const int n = static_cast<int>(rows.size()), ne = static_cast<int>(eq.size());
+  if (n == 0) {
+    std::fprintf(stderr, "%s: no contact (bilateral rows only): not an FCLib problem\n", in);
+    return 1;
+  }
   Eigen::MatrixXd Wcc = Eigen::MatrixXd::Zero(n, n), Wce = Eigen::MatrixXd::Zero(n, ne),
                   Wee(ne, ne);
   Eigen::VectorXd qc = Eigen::VectorXd::Zero(n), qe(ne);
