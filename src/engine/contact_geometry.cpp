@@ -33,18 +33,8 @@ int typeRank(ShapeType t) {
 
 double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-// Appends a point when its gap is below margin; returns the new count.
-int emit(ContactPoint* out, int n, const Vec3& pa, const Vec3& pb, const Vec3& normal, double gap,
-         int feature, double margin) {
-  if (!(gap < margin) || n >= kMaxPointsPerPair) return n;
-  ContactPoint& cp = out[n];
-  cp.point_a = pa;
-  cp.point_b = pb;
-  cp.normal = normal;
-  cp.gap = gap;
-  cp.feature = feature;
-  return n + 1;
-}
+using pairs::emit;  // shape_pairs.hpp, shared with the ring pairs
+using pairs::axisZ;
 
 // Two balls (centres ca, cb; radii ra, rb): the core of sphere, capsule pairs.
 // `fallback` is the normal when the centres coincide (deterministic, no NaN).
@@ -70,7 +60,6 @@ int pointPlane(const Vec3& p, double r, const Vec3& m, const Vec3& p0, int featu
   return emit(out, n, p - r * m, p - s * m, m, s - r, feature, margin);
 }
 
-Vec3 axisZ(const Pose& p) { return p.rotate(Vec3::UnitZ()); }
 
 int spherePlane(const Shape& a, const Pose& pa, const Shape&, const Pose& pb, double margin,
                 ContactPoint* out) {
