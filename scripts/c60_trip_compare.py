@@ -160,6 +160,8 @@ def plots(data, res, outdir, figure=None):
                 ax.plot(r['force_peak_travel_mm'], r['force_peak_0p1ms_N'], 'o', color=c, ms=4)
             if r['release_travel_mm'] is not None:
                 ax.axvline(r['release_travel_mm'], color=c, lw=0.6, ls=':')
+        ax.set_xlim(min(r['touch_travel_mm'] or 0 for r in res.values()) - 0.1,
+                    max(r['release_travel_mm'] or 0 for r in res.values()) + 0.4)
         ax.set_xlabel('probe travel [mm]')
         ax.set_ylabel('tripping force (probe) [N]')
         ax.set_title('tripping force vs probe travel\n(o 0.1-ms peak; dotted: latch release)', fontsize=9)
@@ -220,7 +222,7 @@ def plots(data, res, outdir, figure=None):
             fn(ax)
         fig.suptitle('C-60 trip, probe 0.2 m/s from 0.7 ms: ' + ' vs '.join(data), fontsize=11)
         fig.tight_layout()
-        fig.savefig(figure, dpi=80)
+        fig.savefig(figure, dpi=64)
         plt.close(fig)
 
 
