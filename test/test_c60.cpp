@@ -1,6 +1,7 @@
 // The C-60 breaker scene (urdf/c60.urdf, urdf/c60_bench.urdf; docs/c60.md): it loads,
 // rests latched in ON without drift, trips with the published sequence of events, and
-// the contact-force bench gives the calibrated force and the joint-friction hysteresis. Runs nscd_run headless on the full 3D model
+// the contact-force bench gives the calibrated force and the joint-friction hysteresis; the
+// authors' model (urdf/c60_authors.urdf) rests latched and trips in the same order. Runs nscd_run headless on the full 3D model
 // (about 10 s in all).
 #include <gtest/gtest.h>
 
@@ -187,13 +188,14 @@ TEST(C60, RestsLatchedWithoutDrift) {
 // tooth corner (C4_3, C4_4: the hook flat on the bar's corner) takes the load; the latch
 // releases (every C4 pair open by more than 20 um); then the main contact C7 opens.
 // Until the touch the breaker stays latched on the seat and closed.
-TEST(C60, TripFollowsThePublishedSequence) {
+// `settled`: the time (s) by which the scene has settled from the published ON pose.
+static void expectPublishedTripSequence(const std::string& scene, double duration, double settled, const std::string& tag) {
   Csv c;
-  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60.urdf",
-                                   "--duration 0.0125 --every 2 --command "
-                                   "probe=0:0,0.0007:0,0.0207:0.004",
-                                   "trip", c));
-  ASSERT_GT(c.rows.size(), 600u);
+  ASSERT_NO_FATAL_FAILURE(runToCsv(scene,
+                                   "--duration " + std::to_string(duration) +
+                                       " --every 2 --command probe=0:0,0.0007:0,0.0207:0.004",
+                                   tag, c));
+  ASSERT_GT(c.rows.size(), static_cast<size_t>(duration / 2e-5) - 5);
   const double nan = NAN;
   double t_touch = nan, t_corner = nan, t_release = nan, t_open = nan, gap_at_start = nan;
   bool on_seat_until_touch = true, corner_until_release = true, probe_pushes = true, stays_open = true;
@@ -201,15 +203,15 @@ TEST(C60, TripFollowsThePublishedSequence) {
   size_t n_seat = 0, n_corner = 0;
   for (size_t i = 0; i < c.rows.size(); ++i) {
     const double t = c.at(i, "t");
-    // The probe's travel plus the TRIP gap once the mechanism has settled (5 ms).
-    if (std::isnan(gap_at_start) && t >= 0.005 - 1e-9) gap_at_start = c.at(i, "TRIP.gap") + c.at(i, "probe.cmd");
+    // The probe's travel plus the TRIP gap once the mechanism has settled.
+    if (std::isnan(gap_at_start) && t >= settled - 1e-9) gap_at_start = c.at(i, "TRIP.gap") + c.at(i, "probe.cmd");
     const double corner = c.at(i, "C4_3.fn") + c.at(i, "C4_4.fn"), seat = c.at(i, "C4.fn") + c.at(i, "C4_2.fn");
     if (std::isnan(t_touch)) {
       // The touch: TRIP closes (its gap, a state, does not depend on the sampling as an
       // impact's one-step force does).
       if (c.at(i, "TRIP.gap") < 1e-6 && t > 0.0007) {
         t_touch = t;
-      } else if (t > 0.003) {  // settled: latched on the seat and closed until the touch
+      } else if (t > settled - 0.002) {  // latched on the seat and closed until the touch
         on_seat_until_touch = on_seat_until_touch && seat > 1.0 && corner == 0.0 && c.at(i, "C7.gap") < 1e-6;
         ++n_seat;
       }
@@ -239,11 +241,11 @@ TEST(C60, TripFollowsThePublishedSequence) {
   ASSERT_FALSE(std::isnan(t_corner)) << "the tooth corner never took the load";
   ASSERT_FALSE(std::isnan(t_release)) << "the latch did not release";
   ASSERT_FALSE(std::isnan(t_open)) << "C7 did not open";
-  std::printf("[ figures  ] touch %.2f ms, corner takes the load %.2f ms, release %.2f ms, C7 opens %.2f ms\n",
-              1e3 * t_touch, 1e3 * t_corner, 1e3 * t_release, 1e3 * t_open);
+  std::printf("[ figures  ] %s: touch %.2f ms, corner takes the load %.2f ms, release %.2f ms, C7 opens %.2f ms\n",
+              scene.c_str(), 1e3 * t_touch, 1e3 * t_corner, 1e3 * t_release, 1e3 * t_open);
   EXPECT_GT(n_seat, 50u);
   EXPECT_TRUE(on_seat_until_touch) << "the latch did not rest on the seat F4 until the touch";
-  // The bar rests from 5 ms to the touch: the probe touches when its travel has closed the
+  // The bar rests from `settled` to the touch: the probe touches when its travel has closed the
   // TRIP gap of the settled mechanism, within one sample (0.2 m/s x 20 us) and 1 um (the
   // contact enters the step 1 um early: gamma h u_N = 0.5 x 10 us x 0.2 m/s).
   EXPECT_NEAR(c.at(0, "probe.cmd"), 0.0, 1e-12);
@@ -258,6 +260,10 @@ TEST(C60, TripFollowsThePublishedSequence) {
   // rebounds from its stop C3 with the handle held ON; docs/c60.md "Trip".)
   EXPECT_TRUE(stays_open);
   EXPECT_GT(gap_max, 1e-3);
+}
+
+TEST(C60, TripFollowsThePublishedSequence) {
+  expectPublishedTripSequence("urdf/c60.urdf", 0.0125, 0.005, "trip");
 }
 
 // Contact-force bench, coarse (8 ms strokes): force held at 2.0 mm within 0.6 N of the
@@ -329,4 +335,42 @@ TEST(C60Ideal, ConvergesWithJointsHeldUntilTheProbeTouches) {
   const int trip = sim.model().findContact("TRIP");
   ASSERT_GE(trip, 0);
   EXPECT_GT(sim.contactNormalForce(trip), 0) << "the probe has not reached the bar by 3 ms";
+}
+
+// urdf/c60_authors.urdf, the authors' model (docs/c60.md, "Main model vs the authors'
+// model"): it loads; settles within ~3 ms (their 21 um clearances) and then rests latched
+// on the seat F4 with C7 closed, the free handle on its ON stop, and no motion from 5 to
+// 15 ms; the trip follows the same published sequence.
+TEST(C60Authors, RestsLatchedWithoutDrift) {
+  Csv c;
+  ASSERT_NO_FATAL_FAILURE(runToCsv("urdf/c60_authors.urdf", "--duration 0.015 --every 10", "authors_rest", c));
+  ASSERT_GE(c.rows.size(), 150u);
+  const size_t end = c.rows.size() - 1, settled = end - 100;  // t = 15 ms and 5 ms
+  ASSERT_NEAR(c.at(settled, "t"), 0.005, 1e-9);
+  EXPECT_EQ(c.col.count("handle.cmd"), 0u);  // no handle servo: the handle is free
+  EXPECT_LT(groupGap(c, end, "C4"), 1e-6);
+  EXPECT_GT(c.at(end, "C4.fn") + c.at(end, "C4_2.fn"), 1.0);   // on the seat F4
+  EXPECT_EQ(c.at(end, "C4_3.fn") + c.at(end, "C4_4.fn"), 0.0);  // not on the corner
+  EXPECT_LT(c.at(end, "C7.gap"), 1e-6);
+  EXPECT_GT(c.at(end, "C7.fn"), 1.0);
+  EXPECT_GT(groupForce(c, end, "C1"), 1.0);
+  EXPECT_EQ(groupForce(c, end, "TRIP"), 0.0);
+  for (const char* b : {"handle", "rod", "hook", "plate", "moving_contact", "trip_bar", "needle"}) {
+    const std::string s(b);
+    EXPECT_LT(std::abs(yaw(c, end, b) - yaw(c, settled, b)), 1e-7) << b;
+    EXPECT_LT(std::hypot(c.at(end, s + ".x") - c.at(settled, s + ".x"), c.at(end, s + ".y") - c.at(settled, s + ".y")),
+              1e-9)
+        << b;
+    EXPECT_LT(std::hypot(c.at(end, s + ".vx"), c.at(end, s + ".vy")), 1e-6) << b;
+  }
+  // P3 with the code's preload (151 N mm at ON) against C7 at its 19.85 mm arm.
+  const double p3 = std::abs(c.at(end, "P3_contact.force"));
+  EXPECT_NEAR(p3, 0.1509, 0.01);
+  EXPECT_NEAR(p3, c.at(end, "C7.fn") * 0.01985, 0.1 * 8.0 * 1e-3 + 0.01 * p3);
+  std::printf("[ figures  ] authors at rest: C4 seat %.2f N, C7 %.2f N, P3 %.1f N mm\n",
+              c.at(end, "C4.fn") + c.at(end, "C4_2.fn"), c.at(end, "C7.fn"), 1e3 * p3);
+}
+
+TEST(C60Authors, TripFollowsThePublishedSequence) {
+  expectPublishedTripSequence("urdf/c60_authors.urdf", 0.0105, 0.003, "authors_trip");
 }
