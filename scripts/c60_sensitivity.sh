@@ -5,7 +5,7 @@
 # at a time; writes docs/c60_sensitivity.md. C60_CASES="name:cscale:fscale ..." runs a subset.
 #   scripts/c60_sensitivity.sh
 source "$(dirname "${BASH_SOURCE[0]}")/c60_env.sh"
-cases=${C60_CASES:-"c02:0.2:1 c05:0.5:1 c1:1:1 c2:2:1 f05:1:0.5 f15:1:1.5"}
+cases=${C60_CASES:-"c0:0:1 c02:0.2:1 c05:0.5:1 c1:1:1 c2:2:1 f05:1:0.5 f15:1:1.5"}
 run_case() {
   local name=$1 cs=$2 fs=$3
   $PY "$C60_REPO/scripts/c60_scene.py" --out "$C60_OUT/c60_sens_$name.urdf" --clearance-scale $cs --friction-scale $fs
