@@ -55,9 +55,11 @@ sys.exit(1)
 PY
 
 # RViz for 15 s; timeout's exit status 124 means it was still running then.
-# (The status is written inside xvfb-run: its own can be that of its clean-up.)
+# (The status is written inside xvfb-run: its own can be that of its clean-up. The
+# X authority file is ours (-f): xvfb-run then has no temporary folder to remove, a
+# step whose failure made it exit without stopping Xvfb.)
 rm -f "$out/rviz.rc"
-setsid xvfb-run -a -s "-screen 0 1280x720x24" bash -c 'timeout -k 5 -s INT 15 rviz -d "$1"; \
+setsid xvfb-run -a -f "$tmp/xauthority" -s "-screen 0 1280x720x24" bash -c 'timeout -k 5 -s INT 15 rviz -d "$1"; \
   echo $? >"$2"' rviz "$config" "$out/rviz.rc" >"$out/rviz.log" 2>&1 &
 rviz_pid=$!
 # The panel's subscription, seen by the master, while RViz runs.
@@ -85,5 +87,11 @@ fi
 [ "$rc" = 124 ] || { echo "FAIL: RViz ended early (exit status $rc, expected 124 from timeout)"; fail=1; }
 grep -q '/rviz' "$out/subscribers.txt" ||
   { echo "FAIL: no RViz subscriber on /nscd_sim_node/key_figures (the panel did not start)"; fail=1; }
+# No X server left: xvfb-run has stopped its Xvfb (the one using our authority file).
+xvfb_left() { ps -eo args= | grep -F -- "$tmp/xauthority" | grep -q '^Xvfb'; }
+for _ in $(seq 50); do xvfb_left || break; sleep 0.1; done
+if xvfb_left; then
+  echo "FAIL: Xvfb still running after xvfb-run ended"; fail=1
+fi
 [ "$fail" -eq 0 ] && echo "rviz panel smoke test: OK (subscriber $(cat "$out/subscribers.txt"))"
 exit "$fail"
