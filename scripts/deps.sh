@@ -31,13 +31,14 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # (record_video.sh pauses the node), rostopic/rosbag (docs/node.md), and the Python
   # message packages those tools load for every type the node publishes or serves.
   # Off-screen recording: Xvfb, xwininfo, ffmpeg. Plots: matplotlib. bc: c60_bench.sh.
+  # The RViz panel plugin: librviz-dev, qtbase5-dev (Qt5 Widgets, moc); its test: xvfb.
   install_debs deps build-essential cmake pkg-config \
     ros-base-dev ros-desktop-dev librostest-dev python3-rostest rosbash \
     python3-roslaunch python3-rosservice python3-rostopic python3-rosbag python3-rosnode \
     python3-rosparam python3-rosmsg rospack-tools \
     python3-std-msgs python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs \
     python3-tf2-msgs python3-rosgraph-msgs python3-sensor-msgs python3-visualization-msgs \
-    rviz librviz-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
+    rviz librviz-dev qtbase5-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
     libeigen3-dev libtinyxml2-dev libyaml-cpp-dev libcli11-dev \
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
     xvfb x11-utils ffmpeg bc
