@@ -41,5 +41,5 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     rviz librviz-dev qtbase5-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
     libeigen3-dev libtinyxml2-dev libyaml-cpp-dev libcli11-dev \
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
-    xvfb x11-utils ffmpeg bc
+    xvfb xauth x11-utils ffmpeg bc
 fi
