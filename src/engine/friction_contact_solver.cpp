@@ -142,6 +142,7 @@ void setUpRun(SolveRun& run, double maxDiag) {
   const auto& W = run.W;
   const int m = run.m;
   SolveRun::Workspace& ws = run.ws;
+  run.maxDiag = maxDiag;
   run.zeroDiag = kRelZeroDiag * maxDiag;
   char* zeroRow = ws.zeroRow.data();
   double* rho = ws.rho.data();
@@ -205,12 +206,6 @@ namespace {
 // restarts it from P = 0), with up to kNewtonAttempts attempts in all between
 // runs of sweeps; the proximal Newton if all that fell short. False on a
 // non-finite iterate.
-double maxDiagOf(const SolveRun& run) {
-  double d = 0;
-  for (int i = 0; i < run.m; ++i) d = std::max(d, run.Wm(i, i));
-  return d;
-}
-
 bool runSchedule(SolveRun& run, bool newtonAllowed) {
   SolveRun::Workspace& ws = run.ws;
   const SolverOptions& options = run.options;
@@ -228,7 +223,7 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
     const double bestBefore = run.bestAll;  // the best iterate so far stays on offer
     ws.Pouter.head(run.m) = ws.Pbest.head(run.m);
     run.P.head(run.m).setZero();
-    setUpRun(run, maxDiagOf(run));
+    setUpRun(run, run.maxDiag);
     if (bestBefore < run.bestAll) {
       run.bestAll = bestBefore;
       ws.Pbest.head(run.m) = ws.Pouter.head(run.m);
@@ -242,7 +237,7 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
       return;
     }
     run.P.head(run.m) = ws.Pbest.head(run.m);
-    setUpRun(run, maxDiagOf(run));
+    setUpRun(run, run.maxDiag);
     run.stallIt = rep.sweeps;
   };
   bool ok = true;
@@ -285,7 +280,7 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
   if (ok && !rep.converged && newtonAllowed) {
     if (run.bestAll < run.err) {
       run.P.head(run.m) = ws.Pbest.head(run.m);
-      setUpRun(run, maxDiagOf(run));
+      setUpRun(run, run.maxDiag);
     }
     runProximalNewton(run);
   }

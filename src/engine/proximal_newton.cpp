@@ -40,8 +40,7 @@ bool runProximalNewton(SolveRun& run) {
   Eigen::Ref<Eigen::VectorXd>& P = run.P;
   double* D = ws.Pouter.data() + m;  // Pouter holds 2m: the outer iterate, then D
   blockScales(run.Wm, run.blocks, D);
-  double maxDiag = 0;
-  for (int i = 0; i < m; ++i) maxDiag = std::max(maxDiag, run.Wm(i, i));
+  const double maxDiag = run.maxDiag;
 
   SolverOptions inner = options;
   inner.method = SolverMethod::Newton;

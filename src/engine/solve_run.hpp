@@ -31,6 +31,7 @@ struct SolveRun {
   const Eigen::Block<const Eigen::Ref<const Eigen::MatrixXd>> Wm;
   Eigen::VectorBlock<Eigen::VectorXd> U;  // running local velocities W P + b
 
+  double maxDiag = 0;    // the largest W(i, i) (setUpRun keeps it for later set-ups)
   double zeroDiag = 0;   // W(i, i) at most this: a zero row
   double bnorm = 0;      // |b|, the error's normalisation
   double localTol = 0;   // the local solver's tolerance
