@@ -17,6 +17,20 @@ int actuatedBody(const SceneBuild& sb, const XMLElement* e, const std::string& w
   return l;
 }
 
+// A force or torque actuator on a link: its body, and the non-zero vector
+// attribute `attr` (a direction or an axis, link frame) as a unit vector in the
+// body frame. Returns the link.
+int linkDirection(const SceneBuild& sb, const XMLElement* e, const std::string& what,
+                  const std::string& kind, const char* attr, Actuator& a) {
+  if (!has(e, "link")) sb.c.fail(e->GetLineNum(), what + " (" + kind + ") needs attribute 'link'");
+  const int l = actuatedBody(sb, e, what);
+  a.body = sb.links[l].body;
+  const Vec3 d = reqVec3(sb.c, e, attr);
+  if (!(d.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": " + attr + " must be non-zero");
+  a.direction = sb.links[l].in_body.rotate(d).normalized();
+  return l;
+}
+
 }  // namespace
 
 void readActuator(SceneBuild& sb, const XMLElement* e) {
@@ -64,22 +78,12 @@ void readActuator(SceneBuild& sb, const XMLElement* e) {
   } else if (type == "force") {
     checkAttributes(sb.c, e, vocabularyOf("actuator", "force").attributes);
     a.type = ActuatorType::Force;
-    if (!has(e, "link")) sb.c.fail(e->GetLineNum(), what + " (force) needs attribute 'link'");
-    const int l = actuatedBody(sb, e, what);
-    a.body = sb.links[l].body;
+    const int l = linkDirection(sb, e, what, "force", "direction", a);
     a.point = sb.links[l].in_body.apply(optVec3(sb.c, e, "xyz", Vec3::Zero()));
-    const Vec3 d = reqVec3(sb.c, e, "direction");
-    if (!(d.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": direction must be non-zero");
-    a.direction = sb.links[l].in_body.rotate(d).normalized();
   } else if (type == "torque") {
     checkAttributes(sb.c, e, vocabularyOf("actuator", "torque").attributes);
     a.type = ActuatorType::Torque;
-    if (!has(e, "link")) sb.c.fail(e->GetLineNum(), what + " (torque) needs attribute 'link'");
-    const int l = actuatedBody(sb, e, what);
-    a.body = sb.links[l].body;
-    const Vec3 ax = reqVec3(sb.c, e, "axis");
-    if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
-    a.direction = sb.links[l].in_body.rotate(ax).normalized();
+    linkDirection(sb, e, what, "torque", "axis", a);
   } else {
     sb.c.fail(e->GetLineNum(), what + ": unknown actuator type " + squote(type) + " (position, prescribed, force, torque)");
   }
