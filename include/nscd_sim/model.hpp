@@ -86,6 +86,11 @@ struct ClearanceJoint {
   double bump_at = 0;        // pitch radius of the bumps
   double mu = 0;
   double e = 0;
+  // Where the journal starts inside its bearing: its centre's offset from the
+  // bore's centre, world frame at the initial placement, m (<clearance
+  // initial_offset>); the bodies are moved there before the assembly.
+  bool has_initial_offset = false;
+  Vec3 initial_offset = Vec3::Zero();
   SourceRef src;
 };
 

@@ -1,5 +1,8 @@
 // <clearance>: a revolute joint turned into a 3D joint with radial and axial clearance.
+#include <cmath>
+
 #include "nscd_sim/clearance_geometry.hpp"
+#include "number_text.hpp"
 #include "scene_build.hpp"
 
 namespace nscd {
@@ -50,6 +53,20 @@ void readClearance(SceneBuild& sb, const XMLElement* e) {
   cj.bearing_center = jp ? j.anchor_b : j.anchor_a;
   cj.bearing_axis = jp ? j.axis_b : j.axis_a;
   cj.bearing_ref = anyOrthogonal(cj.bearing_axis);
+  if (has(e, "initial_offset")) {
+    // World frame at the initial placement: its radial part must leave the journal
+    // inside the bore, its axial part inside the axial play.
+    cj.initial_offset = reqVec3(sb.c, e, "initial_offset");
+    const Quat qb = cj.bearing_body == kGround ? Quat::Identity() : sb.m.bodies[cj.bearing_body].initial_pose.q;
+    const Vec3 n = (qb * cj.bearing_axis).normalized();
+    const double axial = cj.initial_offset.dot(n);
+    const double radial = (cj.initial_offset - axial * n).norm();
+    if (!(radial < cj.radial) || !(std::abs(axial) <= 0.5 * cj.axial))
+      sb.c.fail(e->GetLineNum(), "initial_offset of clearance " + squote(name) + " leaves the journal outside its bearing: radial " +
+                                     num(radial) + " m (must be < radial " + num(cj.radial) + "), axial " + num(axial) +
+                                     " m (must be within +-axial/2 = " + num(0.5 * cj.axial) + ")");
+    cj.has_initial_offset = true;
+  }
   cj.src = SourceRef{sb.c.file, e->GetLineNum()};
   j.clearance = static_cast<int>(sb.m.clearance_joints.size());
   sb.m.clearance_joints.push_back(cj);

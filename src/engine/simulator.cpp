@@ -27,6 +27,7 @@ Simulator::Simulator(Model model)
   initStepWorkspace(m, *query_ws_);
   initStepOutputs(m, *out_);
   state_ = initialState(m, *ws_);
+  placeJournals(m, state_);
   assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
 }

@@ -21,6 +21,10 @@ State initialState(const Model& m, const StepWorkspace& ws);
 // velocities onto the ideal joints' G v = 0. Throws std::runtime_error naming
 // the scene if the positions cannot be assembled.
 void assembleState(const Model& m, State& s, StepWorkspace& ws);
+// Journal placement (journal_placement.cpp), before the assembly: moves the bodies
+// so that every clearance joint with an initial offset has its journal there,
+// axes kept parallel. Throws std::runtime_error naming the scene if it cannot.
+void placeJournals(const Model& m, State& s);
 
 // ---- 1. forces (forces.cpp): gravity, force actuators, springs and PD actuators
 // at the state; with jacobians, their symmetrised derivatives K = dF/dq and C =
