@@ -76,53 +76,38 @@ def first_time(t, mask):
 
 # --------------------------------------------------------------------------- trip
 def trip(d, png):
+    """The trip's figures (scripts/c60_trip_figures.py defines each) and its plot."""
+    import c60_trip_figures
+    f = c60_trip_figures.figures(d)
     t = d['t']
     x = d['probe.cmd']               # probe travel from its start, m
     F = d['probe.effort']            # force the driver needs, N (pushing the bar: > 0)
-    touch = first_time(t, (d['TRIP.gap'] < 1e-6) & (x > 0))   # TRIP closes
-    # The probe hits the bar at 0.2 m/s: the first steps carry an impact impulse. The
-    # tripping force proper is the quasi-static push after 0.02 mm of contact travel.
-    x_touch = float(np.interp(touch, t, x)) if touch else 0.0
-    qs = x > x_touch + 2e-5
-    imp = (x >= x_touch) & ~qs
-    k_imp = int(np.nonzero(imp)[0][np.argmax(F[imp])]) if imp.any() else int(np.argmax(F))
-    # Opening: the moving contact leaves the fixed contact for good.
     gap = d['C7.gap']
-    closed = gap < 1e-6
-    t_open = None
-    if closed.any():
-        last_closed = np.nonzero(closed)[0][-1]
-        if last_closed < len(t) - 1:
-            t_open = float(t[last_closed + 1])
-    # The latch: released when every C4 pair is open by more than 20 um (after the touch);
-    # the tooth corner (C4_3, C4_4) against the seat (C4, C4_2).
-    t_release = None
     c4 = group_gap(d, 'C4')
-    after = t > (touch if touch else 0)
-    rel = np.nonzero(after & (c4 > 20e-6))[0]
-    if len(rel):
-        t_release = float(t[rel[0]])
-    corner = d['C4_3.fn'] + d['C4_4.fn']
-    seat = d['C4.fn'] + d['C4_2.fn']
-    on_corner = (corner > seat) & (corner > 0.1)
-    t_corner = first_time(t, on_corner)
-    # The push: from 0.02 mm of contact travel to the release (later hits of the probe on
-    # the bar swinging back are not tripping force).
-    push = qs & (t < (t_release if t_release else t[-1]))
-    k = int(np.nonzero(push)[0][np.argmax(F[push])]) if push.any() else k_imp
-    res = {'probe_touch_s': touch, 'probe_touch_travel_mm': round(1e3 * x_touch, 4),
-           'impact_peak_N': round(float(F[k_imp]), 3), 'peak_force_N': round(float(F[k]), 3),
-           'peak_at_travel_mm': round(float(1e3 * x[k]), 4), 'peak_at_s': float(t[k]),
-           'mean_push_force_N': round(float(F[push].mean()), 3) if push.any() else None,
-           'corner_takes_load_s': t_corner,
-           'latch_release_s': t_release, 'c7_open_s': t_open,
-           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3)}
+    s = lambda key: None if f.get(key) is None else 1e-3 * f[key]  # noqa: E731
+    touch, t_open = s('touch_ms'), s('c7_open_ms')
+    # The first-contact impact: the largest one-sample force in the first 0.02 mm of contact.
+    x_touch = 1e-3 * f['touch_travel_mm'] if touch else 0.0
+    imp = (x >= x_touch) & (x <= x_touch + 2e-5) & (t >= (touch or t[-1]))
+    k_imp = int(np.nonzero(imp)[0][np.argmax(F[imp])]) if imp.any() else int(np.argmax(F))
+    res = {'probe_touch_s': touch, 'probe_touch_travel_mm': f['touch_travel_mm'],
+           'impact_peak_N': round(float(F[k_imp]), 3),
+           'peak_force_N': f.get('force_peak_0p1ms_N'), 'peak_at_travel_mm': f.get('force_peak_travel_mm'),
+           'peak_at_s': s('force_peak_at_ms'),
+           'mean_push_force_N': f.get('force_mean_N'),
+           'corner_takes_load_s': s('corner_ms'),
+           'latch_release_s': s('release_ms'), 'c7_open_s': t_open,
+           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3), 'figures': f}
+    k = None
+    if f.get('force_peak_at_ms') is not None:
+        k = int(np.argmin(np.abs(t - 1e-3 * f['force_peak_at_ms'])))
     if png:
         plt = plt_module()
         fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
         m = t >= (touch if touch else 0) - 2e-4
         ax[0].plot(1e3 * x[m], F[m], 'C0')
-        ax[0].plot(1e3 * x[k], F[k], 'o', color='C3', label='peak (quasi-static) %.2f N' % F[k])
+        if k is not None:
+            ax[0].plot(1e3 * x[k], F[k], 'o', color='C3', label='0.1-ms peak %.2f N' % f['force_peak_0p1ms_N'])
         ax[0].plot(1e3 * x[k_imp], F[k_imp], 'x', color='k', label='first-contact impact %.2f N' % F[k_imp])
         ax[0].set_xlabel('probe travel [mm]')
         ax[0].set_ylabel('tripping force (probe) [N]')

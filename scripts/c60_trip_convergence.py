@@ -6,10 +6,10 @@
 Runs the trip (probe at 0.2 m/s from 0.7 ms, 20.7 ms) at each dt and at the
 reference dt, every step in the CSV, and prints per dt: the latch release time,
 the C7 opening time (both counted from the probe's start at 0.7 ms), the mean
-tripping force while the probe pushes, the peak of the tripping force averaged
-over 0.1 ms windows (so that steps of any size compare impulse for impulse),
-their relative errors against the reference, the wall time and the real-time
-factor. The recommended dt is the largest whose four figures are all within 1 %.
+tripping force while the probe is in contact, the peak of its 0.1-ms running mean
+(so that steps of any size compare impulse for impulse), each as
+scripts/c60_trip_figures.py defines it, their relative errors against the
+reference, the wall time and the real-time factor. The recommended dt is the largest whose four figures are all within 1 %.
 """
 import argparse
 import json
@@ -21,35 +21,20 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import c60_plot  # noqa: E402  (load, group_gap, first_time)
+import c60_plot  # noqa: E402
+import c60_trip_figures  # noqa: E402
 
 T0 = 0.0007
 PROBE = 'probe=0:0,0.0007:0,0.0207:0.004'
-WINDOW = 1e-4
 
 
 def figures(csv):
-    d = c60_plot.load(csv)
-    t, x, F = d['t'], d['probe.cmd'], d['probe.effort']
-    touch = c60_plot.first_time(t, (d['TRIP.gap'] < 1e-6) & (x > 0))
-    c4 = c60_plot.group_gap(d, 'C4')
-    after = t > (touch if touch else 0)
-    rel = np.nonzero(after & (c4 > 20e-6))[0]
-    t_release = float(t[rel[0]]) if len(rel) else None
-    # C7 opens: the first time after the touch that the moving contact stands 10 um
-    # off the fixed contact (it can come back later: the plate rebounds from its stop).
-    t_open = c60_plot.first_time(t, after & (d['C7.gap'] > 1e-5))
-    x_touch = float(np.interp(touch, t, x)) if touch else 0.0
-    push = (x > x_touch + 2e-5) & (t < (t_release if t_release else t[-1]))
-    # Row k holds the step ending at t[k]; its force is that step's impulse / dt.
-    mean_push = float(F[push].mean()) if push.any() else float('nan')
-    k = np.floor(t / WINDOW + 1e-9).astype(int)
-    peak = float('nan')
-    if push.any():
-        wins = np.unique(k[push])
-        peak = max(float(F[(k == w) & (t > 0)].mean()) for w in wins)
-    return {'touch_s': touch, 'release_s': t_release, 'c7_open_s': t_open,
-            'mean_push_N': mean_push, 'peak_0.1ms_N': peak}
+    """The four figures of the work-precision, as scripts/c60_trip_figures.py defines them."""
+    f = c60_trip_figures.figures(c60_plot.load(csv))
+    s = lambda key: None if f.get(key) is None else 1e-3 * f[key]  # noqa: E731
+    return {'touch_s': s('touch_ms'), 'release_s': s('release_ms'), 'c7_open_s': s('c7_open_ms'),
+            'mean_push_N': f.get('force_mean_N') if f.get('force_mean_N') is not None else float('nan'),
+            'peak_0.1ms_N': f.get('force_peak_0p1ms_N') if f.get('force_peak_0p1ms_N') is not None else float('nan')}
 
 
 def run(scene, dt, out):
