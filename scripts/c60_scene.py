@@ -222,7 +222,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
     calibrated one), the J1 top/bottom rings, the seat F4 and fillet F3 as their code
     uses them, and no handle servo (the handle free).
     radial_scale / axial_scale scale the radial / axial clearances only (on top of cscale);
-    radial_mm sets every radial clearance of J1-J7 and S3 to one value; journal_seed draws
+    radial_mm sets every radial clearance of J1-J7 to one value (S3, the needle in the case, kept); journal_seed draws
     each journal's initial position uniformly inside its clearance (<clearance
     initial_offset>; numpy's default_rng(seed), so a seed gives the same scene anywhere)."""
     authors = variant == 'authors'
@@ -237,7 +237,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
     w('     every number and its source. SI units; joint axes along world z; no gravity.')
     extra = ''.join(t for t, on in [(', radial scale %g' % radial_scale, radial_scale != 1.0),
                                     (', axial scale %g' % axial_scale, axial_scale != 1.0),
-                                    (', radial clearances %g mm' % (radial_mm or 0), radial_mm is not None),
+                                    (', J1-J7 radial clearances %g mm' % (radial_mm or 0), radial_mm is not None),
                                     (', journals placed at random (seed %s)' % journal_seed, journal_seed is not None)] if on)
     w('     clearance scale %g, friction scale %g%s%s -->' % (cscale, fscale, extra, ', with bench table' if bench else ''))
     if authors:
@@ -330,7 +330,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
         if cscale == 0:
             continue  # clearance x0: the ideal revolute joint, its 5 bilateral rows
         L = ringz[1] - ringz[0]
-        crs = max((radial_mm if radial_mm is not None else cr) * cscale * radial_scale, MIN_CLEARANCE)
+        crs = max((radial_mm if radial_mm is not None and jn != 'S3' else cr) * cscale * radial_scale, MIN_CLEARANCE)
         cax = max(AXIAL * cscale * axial_scale, MIN_CLEARANCE)
         offset = ''
         if rng is not None:  # uniform in the bore's disc (a hair inside); axial: drawn above
@@ -795,7 +795,7 @@ def main():
     ap.add_argument('--friction-scale', type=float, default=1.0)
     ap.add_argument('--radial-scale', type=float, default=1.0, help='scale of the radial clearances only')
     ap.add_argument('--axial-scale', type=float, default=1.0, help='scale of the axial plays only')
-    ap.add_argument('--radial-mm', type=float, help='every radial clearance (J1-J7, S3) set to this, mm')
+    ap.add_argument('--radial-mm', type=float, help='every radial clearance of J1-J7 set to this, mm (S3 kept)')
     ap.add_argument('--journal-seed', type=int,
                     help='journals start at random positions inside their clearances (this seed)')
     ap.add_argument('--p3-rest', type=float)

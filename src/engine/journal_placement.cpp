@@ -22,7 +22,10 @@ namespace {
 constexpr int kPlacementIterations = 30;
 constexpr double kPlacementTolerance = 1e-13;  // m (and rad for the axes)
 constexpr double kStepTolerance = 1e-12;        // m and rad: the soft rows' fit is done
-constexpr double kProbe = 1e-7;                // finite-difference step, m and rad
+// Singular values below this fraction of the largest are zero: redundant rows (a
+// loop's closure, the third component of a x n), not directions to move along.
+constexpr double kRankThreshold = 1e-7;
+constexpr double kProbe = 1e-6;                // finite-difference step, m and rad
 
 // Residual of clearance joint c, 6 rows from `row` of r: journal centre - bore
 // centre - target, and (journal axis x bore axis) times the bearing length (a tilt
@@ -112,7 +115,7 @@ void placeJournals(const Model& m, State& s) {
     for (int k = 0; k < nd; ++k)
       scale[b * nd + k] = std::sqrt(dofs[k] < 3 ? 1.0 / m.bodies[b].mass : 1.0 / Iw(dofs[k] - 3, dofs[k] - 3));
   }
-  Eigen::VectorXd r, rp;
+  Eigen::VectorXd r, rp, rm;
   Eigen::MatrixXd J;
   double err = 0;
   for (int it = 0; it < kPlacementIterations; ++it) {
@@ -120,15 +123,17 @@ void placeJournals(const Model& m, State& s) {
     err = r.head(rows.hard).lpNorm<Eigen::Infinity>();
     J.resize(r.size(), n);
     for (int b = 0; b < nb; ++b)
-      for (int k = 0; k < nd; ++k) {
-        State sp = s;
+      for (int k = 0; k < nd; ++k) {  // central differences: the rank decisions need clean columns
+        State sp = s, sm = s;
         displace(sp, b, dofs[k], kProbe);
+        displace(sm, b, dofs[k], -kProbe);
         rows.residual(m, sp, planar, rp);
-        J.col(b * nd + k) = (rp - r) / kProbe * scale[b * nd + k];
+        rows.residual(m, sm, planar, rm);
+        J.col(b * nd + k) = (rp - rm) / (2 * kProbe) * scale[b * nd + k];
       }
     const int soft = static_cast<int>(r.size()) - rows.hard;
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(J.topRows(rows.hard), Eigen::ComputeFullV | Eigen::ComputeThinU);
-    svd.setThreshold(1e-10);
+    svd.setThreshold(kRankThreshold);
     Eigen::VectorXd y = -svd.solve(r.head(rows.hard));
     const int rank = static_cast<int>(svd.rank());
     if (soft > 0 && rank < n) {
@@ -136,10 +141,14 @@ void placeJournals(const Model& m, State& s) {
       const Eigen::MatrixXd C = J.bottomRows(soft) * N;
       const Eigen::VectorXd rs = r.tail(soft) + J.bottomRows(soft) * y;
       // Minimum-norm least squares: directions the soft rows do not see (a link
-      // turning about its only joint) stay put.
+      // turning about its only joint) stay put. The cut is absolute (against the hard
+      // rows' scale): a soft row that barely sees a direction must not drive it.
       Eigen::JacobiSVD<Eigen::MatrixXd> soft_svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
-      soft_svd.setThreshold(1e-8);
-      y -= N * soft_svd.solve(rs);
+      const double cut = kRankThreshold * svd.singularValues()(0);
+      if (soft_svd.singularValues().size() > 0 && soft_svd.singularValues()(0) > cut) {
+        soft_svd.setThreshold(cut / soft_svd.singularValues()(0));
+        y -= N * soft_svd.solve(rs);
+      }
     }
     const Eigen::VectorXd dq = scale.cwiseProduct(y);
     if (err < kPlacementTolerance && dq.lpNorm<Eigen::Infinity>() < kStepTolerance) return;

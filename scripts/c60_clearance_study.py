@@ -1,0 +1,334 @@
+#!/usr/bin/python3
+"""The seed paper's question on the C-60: how radial clearance, axial play and the
+journals' initial positions change the breaker.
+
+  c60_clearance_study.py [run] [--jobs N] [--shard i/n] [--out DIR] [--cases a,b,c]
+  c60_clearance_study.py report [--out DIR] [--doc docs/c60_clearance_study.md]
+  c60_clearance_study.py list
+
+Cases: (a) radial clearance x0 (ideal joints), 0.021 mm in J1-J7 (the authors'
+value), the paper's values (nominal), x2; (b) axial play x0.5, x1, x2; (c) 20 runs
+with the journals starting at random positions inside their clearances (seeds
+1-20, `c60_scene.py --journal-seed`). Each case is a trip (probe at 0.2 m/s from
+0.7 ms, 20.7 ms) and a bench (scripts/c60_bench.sh's table, 2 mm and back) of the
+scene variant that scripts/c60_scene.py writes; figures as c60_trip_figures.py and
+c60_plot.py (bench) define them, plus each joint's polarisation (e/c_r, direction)
+and out-of-plane tilt (angle between journal and bore axes) at rest before the
+probe arrives and at 2 mm on the bench.
+
+`run` runs the cases of its shard (case k with k mod n == i) on --jobs workers
+(default: every core), each case's figures into OUT/study_CASE.json; `report`
+collects every JSON there into the markdown table and box plots. Without a
+command: run, then report. Progress on standard error.
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import c60_plot  # noqa: E402
+import c60_scene  # noqa: E402
+import c60_trip_figures  # noqa: E402
+
+REPO = os.path.dirname(HERE)
+PROBE = 'probe=0:0,0.0007:0,0.0207:0.004'
+TRIP_DURATION = 0.0207
+BENCH_DURATION = 0.054
+SEEDS = list(range(1, 21))
+# name, group, label, c60_scene.build keyword arguments
+CASES = ([('r0', 'a', 'radial x0 (ideal joints)', {'cscale': 0.0}),
+          ('r021', 'a', 'radial 0.021 mm (J1-J7)', {'radial_mm': 0.021}),
+          ('nominal', 'a', 'nominal (paper clearances)', {}),
+          ('r2', 'a', 'radial x2', {'radial_scale': 2.0}),
+          ('a05', 'b', 'axial x0.5', {'axial_scale': 0.5}),
+          ('a2', 'b', 'axial x2', {'axial_scale': 2.0})] +
+         [('s%02d' % s, 'c', 'journals at random, seed %d' % s, {'journal_seed': s}) for s in SEEDS])
+JOINT_BODIES = {j[0]: (j[1], j[2]) for j in c60_scene.JOINTS}
+
+
+def table_command():
+    """The bench's table schedule, as scripts/c60_env.sh writes it."""
+    out = subprocess.run(['bash', '-c', 'source "%s/c60_env.sh" >/dev/null && echo "$C60_TABLE"' % HERE],
+                         capture_output=True, text=True, check=True)
+    return out.stdout.strip()
+
+
+def nscd_run():
+    exe = os.environ.get('NSCD_RUN', os.path.join(REPO, '.build/ws/devel/lib/nscd_sim/nscd_run'))
+    if not os.path.exists(exe):
+        sys.exit('nscd_run not found at %s: run scripts/build.sh first (or set NSCD_RUN)' % exe)
+    return exe
+
+
+def axis_z(d, body, i):
+    if body == 'world':
+        return np.array([0.0, 0.0, 1.0])
+    qw, qx, qy, qz = (float(d[body + '.q' + c][i]) for c in 'wxyz')
+    return np.array([2 * (qx * qz + qw * qy), 2 * (qy * qz - qw * qx), 1 - 2 * (qx * qx + qy * qy)])
+
+
+def polarisation(d, i):
+    """Per joint at row i: e/c_r, direction (world, deg) and tilt (deg) of journal vs bore."""
+    pol = c60_plot.polarisation(d, i)
+    for j, p in pol.items():
+        a, b = (axis_z(d, body, i) for body in JOINT_BODIES[j])
+        p['tilt_deg'] = round(math.degrees(math.atan2(np.linalg.norm(np.cross(a, b)), float(a @ b))), 5)
+    return pol
+
+
+def run_one(exe, scene, duration, command, csv, every):
+    r = subprocess.run([exe, scene, '--duration', repr(duration), '--command', command, '--csv', csv,
+                        '--every', str(every), '--quiet'], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError('%s: %s' % (os.path.basename(scene), r.stderr.strip()))
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def run_case(case, out, exe, table):
+    name, group, label, kw = case
+    t0 = time.time()
+    res = {'case': name, 'group': group, 'label': label, 'scene_args': kw}
+    for kind in ('trip', 'bench'):
+        scene = os.path.join(out, 'study_%s_%s.urdf' % (name, kind))
+        with open(scene, 'w') as f:
+            f.write(c60_scene.build(bench=kind == 'bench', **kw))
+        csv = os.path.join(out, 'study_%s_%s.csv' % (name, kind))
+        if kind == 'trip':
+            run = run_one(exe, scene, TRIP_DURATION, PROBE, csv, 1)
+            d = c60_plot.load(csv)
+            fig = c60_trip_figures.figures(d)
+            t = d['t']
+            touch = 1e-3 * fig['touch_ms'] if fig.get('touch_ms') else c60_trip_figures.T_PROBE
+            res['trip'] = fig
+            res['polarisation_initial'] = polarisation(d, 0)
+            res['polarisation_rest'] = polarisation(d, int(np.nonzero(t < touch)[0][-1]))
+        else:
+            run = run_one(exe, scene, BENCH_DURATION, table, csv, 5)
+            d = c60_plot.load(csv)
+            b = c60_plot.bench(d, None)
+            res['bench'] = {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')}
+            i_eq = int(np.argmin(np.abs(d['t'] - (0.030 - 1e-3))))  # end of the hold at 2 mm
+            res['polarisation_2mm'] = polarisation(d, i_eq)
+        res[kind + '_run'] = {k: run[k] for k in ('steps', 'wall_s', 'iters_mean', 'iters_max', 'unconverged_steps',
+                                                  'frictionless_fallbacks', 'max_penetration')}
+        os.remove(csv)
+    res['wall_s'] = time.time() - t0
+    with open(os.path.join(out, 'study_%s.json' % name), 'w') as f:
+        json.dump(res, f, indent=1)
+    return res
+
+
+def do_run(a):
+    i, n = (int(v) for v in a.shard.split('/'))
+    if not (n >= 1 and 0 <= i < n):
+        sys.exit('--shard must be i/n with 0 <= i < n, got %s' % a.shard)
+    cases = [c for k, c in enumerate(CASES) if k % n == i]
+    if a.cases:
+        want = set(a.cases.split(','))
+        unknown = want - {c[0] for c in CASES}
+        if unknown:
+            sys.exit('unknown case(s): %s (see: c60_clearance_study.py list)' % ', '.join(sorted(unknown)))
+        cases = [c for c in cases if c[0] in want]
+    os.makedirs(a.out, exist_ok=True)
+    exe, table = nscd_run(), table_command()
+    t0 = time.time()
+    failed = []
+    with cf.ThreadPoolExecutor(max_workers=a.jobs) as pool:  # each worker waits on an nscd_run process
+        futs = {pool.submit(run_case, c, a.out, exe, table): c[0] for c in cases}
+        for k, fut in enumerate(cf.as_completed(futs), 1):
+            try:
+                r = fut.result()
+                print('[%d/%d] %s: %.0f s (%.0f s elapsed)' % (k, len(cases), futs[fut], r['wall_s'], time.time() - t0),
+                      file=sys.stderr, flush=True)
+            except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
+                failed.append(futs[fut])
+                print('[%d/%d] %s FAILED: %s' % (k, len(cases), futs[fut], e), file=sys.stderr, flush=True)
+    wall = time.time() - t0
+    with open(os.path.join(a.out, 'study_wall_shard%d_of_%d.json' % (i, n)), 'w') as f:
+        json.dump({'wall_s': wall, 'jobs': a.jobs, 'cases': len(cases), 'failed': failed}, f)
+    print('study shard %d/%d: %d cases on %d workers in %.0f s%s' % (
+        i, n, len(cases), a.jobs, wall, '' if not failed else '; FAILED: ' + ', '.join(failed)), file=sys.stderr)
+    return 1 if failed else 0
+
+
+# --------------------------------------------------------------------------- report
+def fmt(v, f='%.2f'):
+    return '—' if v is None else f % v
+
+
+def load_results(out):
+    res = {}
+    for c in CASES:
+        p = os.path.join(out, 'study_%s.json' % c[0])
+        if os.path.exists(p):
+            with open(p) as f:
+                res[c[0]] = json.load(f)
+    return res
+
+
+FIGS = [('bench force at 2 mm [N]', lambda r: r['bench']['equilibrium_force_N'], '%.2f'),
+        ('hysteresis [N]', lambda r: r['bench']['hysteresis_mean_N'], '%.3f'),
+        ('trip force mean [N]', lambda r: r['trip'].get('force_mean_N'), '%.2f'),
+        ('trip force 0.1-ms peak [N]', lambda r: r['trip'].get('force_peak_0p1ms_N'), '%.2f'),
+        ('touch [ms]', lambda r: r['trip'].get('touch_ms'), '%.2f'),
+        ('latch release [ms]', lambda r: r['trip'].get('release_ms'), '%.2f'),
+        ('C7 opens [ms]', lambda r: r['trip'].get('c7_open_ms'), '%.2f')]
+
+
+def pol_cell(p):
+    return '%.2f@%.0f°' % (p['ecc'], p['dir_deg'])
+
+
+def report(a):
+    res = load_results(a.out)
+    if not res:
+        sys.exit('no study results in %s: run the study first' % a.out)
+    walls = []
+    for fn in sorted(os.listdir(a.out)):
+        if fn.startswith('study_wall_shard'):
+            with open(os.path.join(a.out, fn)) as f:
+                walls.append(json.load(f))
+    L = ['# The C-60 and its clearances: the seed paper\'s question, answered with data', '',
+         'Generated by `scripts/c60_clearance_study.py` (run, then report) from the scene variants',
+         '`scripts/c60_scene.py` writes; every figure as `scripts/c60_trip_figures.py` (trip) and',
+         '`scripts/c60_plot.py` (bench) define it. Trip: probe at 0.2 m/s from 0.7 ms, 20.7 ms,',
+         'dt 1e-5. Bench: the table pushes the moving contact 2 mm off the fixed contact and back',
+         '(`scripts/c60_bench.sh`). Nothing is tuned per case; the calibrated P3 preload is kept.', '']
+    if walls:
+        L.append('**Wall time of the whole study**: %s (%d cases, each a trip and a bench: %d nscd_run runs).' % (
+            ' + '.join('%.0f s (shard of %d cases on %d workers)' % (w['wall_s'], w['cases'], w['jobs']) for w in walls),
+            len(res), 2 * len(res)))
+        L.append('')
+    L += ['## (a) radial clearance and (b) axial play', '',
+          '| case | ' + ' | '.join(f[0] for f in FIGS) + ' | unconverged steps trip / bench | max penetration [m] |',
+          '|---|' + '---|' * (len(FIGS) + 2)]
+    for c in CASES:
+        if c[1] == 'c' or c[0] not in res:
+            continue
+        r = res[c[0]]
+        L.append('| %s | %s | %d / %d | %.2g |' % (
+            c[2], ' | '.join(fmt(f[1](r), f[2]) for f in FIGS), r['trip_run']['unconverged_steps'],
+            r['bench_run']['unconverged_steps'], max(r['trip_run']['max_penetration'], r['bench_run']['max_penetration'])))
+    L += ['', 'Axial play x1 is the nominal row.', '',
+          '### Polarisation at rest before the probe arrives (e/c_r @ direction, world) and tilt', '',
+          '| case | ' + ' | '.join(c60_plot.JOINTS) + ' |', '|---|' + '---|' * len(c60_plot.JOINTS)]
+    for c in CASES:
+        if c[1] == 'c' or c[0] not in res:
+            continue
+        p = res[c[0]]['polarisation_rest']
+        L.append('| %s | %s |' % (c[2], ' | '.join(
+            (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
+    L += ['', '### Polarisation at 2 mm on the bench', '',
+          '| case | ' + ' | '.join(c60_plot.JOINTS) + ' |', '|---|' + '---|' * len(c60_plot.JOINTS)]
+    for c in CASES:
+        if c[1] == 'c' or c[0] not in res:
+            continue
+        p = res[c[0]]['polarisation_2mm']
+        L.append('| %s | %s |' % (c[2], ' | '.join(
+            (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
+    seeds = [res[c[0]] for c in CASES if c[1] == 'c' and c[0] in res]
+    if seeds:
+        L += ['', '## (c) journals starting at random inside their clearances (%d runs)' % len(seeds), '',
+              'Each journal\'s centre drawn uniformly in its bore\'s disc and its axial play',
+              '(`c60_scene.py --journal-seed S`, `<clearance initial_offset>`; axial offsets conditioned',
+              'on the loop closing). The nominal row is the same scene with every journal centred.', '',
+              '| figure | nominal (centred) | min | median | max | spread (max - min) |', '|---|---|---|---|---|---|']
+        nominal = res.get('nominal')
+        for name, fn, f in FIGS:
+            v = [fn(r) for r in seeds if fn(r) is not None]
+            missing = len(seeds) - len(v)
+            if not v:
+                continue
+            L.append('| %s%s | %s | %s | %s | %s | %s |' % (
+                name, (' (%d runs without)' % missing) if missing else '', fmt(nominal and fn(nominal), f),
+                f % min(v), f % float(np.median(v)), f % max(v), f % (max(v) - min(v))))
+        L += ['', '### Polarisation: initial (after the assembly), at rest before the probe, at 2 mm', '',
+              'e/c_r median [min, max] over the runs; direction spread = the widest gap-free arc',
+              'holding every run\'s direction (360° minus the largest empty arc).', '',
+              '| joint | initial e/c_r | at rest e/c_r | at rest direction spread | at rest tilt max [°] | at 2 mm e/c_r | at 2 mm direction spread |',
+              '|---|---|---|---|---|---|---|']
+        for j in c60_plot.JOINTS:
+            def col(key, field):
+                return [r[key][j][field] for r in seeds if j in r[key]]
+
+            def spread(dirs):
+                s = sorted(d % 360 for d in dirs)
+                gaps = [b - a for a, b in zip(s, s[1:])] + [s[0] + 360 - s[-1]]
+                return 360 - max(gaps)
+            e0, er, e2 = col('polarisation_initial', 'ecc'), col('polarisation_rest', 'ecc'), col('polarisation_2mm', 'ecc')
+            if not er:
+                continue
+            L.append('| %s | %.2f [%.2f, %.2f] | %.2f [%.2f, %.2f] | %.0f° | %.4f | %.2f [%.2f, %.2f] | %.0f° |' % (
+                j, np.median(e0), min(e0), max(e0), np.median(er), min(er), max(er),
+                spread(col('polarisation_rest', 'dir_deg')), max(col('polarisation_rest', 'tilt_deg')),
+                np.median(e2), min(e2), max(e2), spread(col('polarisation_2mm', 'dir_deg'))))
+        png = os.path.join(os.path.dirname(a.doc), 'images', 'c60_clearance_study.png')
+        box_plots(seeds, nominal, png)
+        L += ['', '![box plots of the 20 random-start runs](images/c60_clearance_study.png)', '']
+    L += ['## Runs', '', '| case | trip: steps, iterations mean / max, unconverged, fallbacks | bench: the same | wall trip + bench [s] |',
+          '|---|---|---|---|']
+    for c in CASES:
+        if c[0] not in res:
+            continue
+        r = res[c[0]]
+        cell = lambda q: '%d, %.1f / %d, %d, %d' % (q['steps'], q['iters_mean'], q['iters_max'],  # noqa: E731
+                                                    q['unconverged_steps'], q['frictionless_fallbacks'])
+        L.append('| %s | %s | %s | %.0f |' % (c[0], cell(r['trip_run']), cell(r['bench_run']), r['wall_s']))
+    text = '\n'.join(L) + '\n'
+    with open(a.doc, 'w') as f:
+        f.write(text)
+    print(text)
+
+
+def box_plots(seeds, nominal, png):
+    plt = c60_plot.plt_module()
+    fig, ax = plt.subplots(1, len(FIGS), figsize=(2.0 * len(FIGS), 3.6))
+    for k, (name, fn, _) in enumerate(FIGS):
+        v = [fn(r) for r in seeds if fn(r) is not None]
+        ax[k].boxplot(v, widths=0.5)
+        ax[k].plot(np.random.default_rng(k).normal(1, 0.04, len(v)), v, '.', color='C0', alpha=0.6)
+        if nominal and fn(nominal) is not None:
+            ax[k].axhline(fn(nominal), color='C3', lw=0.8, label='journals centred')
+        ax[k].set_title(name, fontsize=8)
+        ax[k].set_xticks([])
+        ax[k].tick_params(labelsize=7)
+    ax[0].legend(fontsize=7)
+    fig.suptitle('C-60: %d runs with the journals starting at random inside their clearances' % len(seeds), fontsize=9)
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(png), exist_ok=True)
+    fig.savefig(png, dpi=100)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('command', nargs='?', choices=['run', 'report', 'list', 'all'], default='all')
+    ap.add_argument('--jobs', type=int, default=os.cpu_count() or 1)
+    ap.add_argument('--shard', default='0/1')
+    ap.add_argument('--cases', help='comma-separated case names (default: all of the shard)')
+    ap.add_argument('--out', default=os.path.join(REPO, 'out', 'clearance_study'))
+    ap.add_argument('--doc', default=os.path.join(REPO, 'docs', 'c60_clearance_study.md'))
+    a = ap.parse_args()
+    if a.jobs < 1:
+        sys.exit('--jobs must be >= 1')
+    if a.command == 'list':
+        for k, c in enumerate(CASES):
+            print('%2d %-8s (%s) %s  %s' % (k, c[0], c[1], c[2], c[3]))
+        return 0
+    rc = 0
+    if a.command in ('run', 'all'):
+        rc = do_run(a)
+    if a.command in ('report', 'all'):
+        report(a)
+    return rc
+
+
+if __name__ == '__main__':
+    sys.exit(main())
