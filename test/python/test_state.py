@@ -71,3 +71,24 @@ def test_state_is_a_copy(nscd_sim):
     assert s.t == 0 and sim.state().t > 0
     with pytest.raises(TypeError):
         hash(s)
+
+
+def test_simulators_in_parallel_threads_match_serial_runs(nscd_sim):
+    """With the GIL released, two Simulators step at once; they share nothing, so each
+    gives its serial run's records."""
+    import threading
+    kwargs = [dict(commands=C60_PROBE), dict(commands=C60_PROBE, settings={'tolerance': 1e-6})]
+    serial = [nscd_sim.Simulator(scene('urdf/c60.urdf'), **k).run(0.002, every=20) for k in kwargs]
+    sims = [nscd_sim.Simulator(scene('urdf/c60.urdf'), **k) for k in kwargs]
+    out = [None, None]
+
+    def work(i):
+        out[i] = sims[i].run(0.002, every=20)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert out[0].tobytes() == serial[0].tobytes() and out[1].tobytes() == serial[1].tobytes()
+    assert out[0].tobytes() != out[1].tobytes()
