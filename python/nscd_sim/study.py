@@ -122,8 +122,8 @@ def run_study(cases: Sequence[Case], extract: Callable, workers: Optional[int] =
     jobs = [(k, cases[k], extract, keep_going) for k in shard_indices(len(cases), shard)]
     if scheduler is not None:
         return _run_dask(jobs, scheduler)
-    if workers is None:
-        workers = os.cpu_count() or 1
+    if workers is None:  # the cores this process may use
+        workers = len(os.sched_getaffinity(0)) if hasattr(os, 'sched_getaffinity') else os.cpu_count() or 1
     if not isinstance(workers, int) or workers < 1:
         raise ValueError('workers must be an integer >= 1 (got %r)' % (workers,))
     if workers == 1 or len(jobs) <= 1:

@@ -369,7 +369,10 @@ class PySimulator {
     BusyGuard g(busy_);
     return sim_->state().t;
   }
-  long steps() const { return steps_; }
+  long steps() {
+    BusyGuard g(busy_);
+    return steps_;
+  }
   const std::string& scene() const { return scene_; }
   const std::vector<std::string>& scheduleTexts() const { return texts_; }
   std::vector<std::string> fieldNames() const {
