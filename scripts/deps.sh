@@ -32,6 +32,9 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # message packages those tools load for every type the node publishes or serves.
   # Off-screen recording: Xvfb, xwininfo, ffmpeg. Plots: matplotlib. bc: c60_bench.sh.
   # The RViz panel plugin: librviz-dev, qtbase5-dev (Qt5 Widgets, moc); its test: xvfb.
+  # The Python module (docs/python.md): pybind11-dev, python3-dev, python3-setuptools
+  # (setup.py for catkin_python_setup); its tests: python3-pytest; studies on a Dask
+  # cluster: python3-distributed.
   install_debs deps build-essential cmake pkg-config \
     ros-base-dev ros-desktop-dev librostest-dev python3-rostest rosbash \
     python3-roslaunch python3-rosservice python3-rostopic python3-rosbag python3-rosnode \
@@ -41,5 +44,6 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     rviz librviz-dev qtbase5-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
     libeigen3-dev libtinyxml2-dev libyaml-cpp-dev libcli11-dev \
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
-    xvfb xauth x11-utils ffmpeg bc
+    xvfb xauth x11-utils ffmpeg bc \
+    pybind11-dev python3-dev python3-setuptools python3-pytest python3-distributed
 fi
