@@ -13,6 +13,9 @@ namespace nscd {
 namespace {
 
 constexpr int kProjectionBacktracks = 4;
+// A least-distance correction larger than this many times the unsolved
+// complementarity answer it would replace is not used.
+constexpr double kLeastDistanceGrowth = 10;
 
 // The rows of the position-level problem at the state: bilateral rows and a
 // normal row per contact candidate. `ring_hint` starts the ring searches.
@@ -126,7 +129,19 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     const SolverReport rep =
         ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
     ws.dq.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
-    if (!rep.converged && leastDistanceCorrection(ws)) ++st.projection_least_distance;
+    if (!rep.converged) {
+      // The least-distance answer replaces the unsolved one unless it is far
+      // larger: a near-infeasible set of rows (a point reported deep behind a
+      // surface patch) made it move a C-60 plate by 0.37 m.
+      const double unsolved = ws.dq.lpNorm<Eigen::Infinity>();
+      ws.saved_dq = ws.dq;
+      if (leastDistanceCorrection(ws)) {
+        if (ws.dq.allFinite() && ws.dq.lpNorm<Eigen::Infinity>() <= kLeastDistanceGrowth * unsolved)
+          ++st.projection_least_distance;
+        else
+          ws.dq = ws.saved_dq;
+      }
+    }
     if (!ws.dq.allFinite()) return pass;
     if (pass == 0) {
       applyDisplacement(s, ws.dq);

@@ -59,6 +59,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.mass_inverse = Eigen::MatrixXd::Zero(n, n);
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
+  ws.saved_dq.setZero(ws.n);
   ws.predicted.bodies.resize(m.bodies.size());
   ws.G = Eigen::MatrixXd::Zero(mr, n);
   ws.Y = Eigen::MatrixXd::Zero(n, mr);

@@ -91,6 +91,7 @@ class StepWorkspace {
   Eigen::VectorXd gyro_impulse;  // free velocity: backward-Euler gyroscopic impulses
   Eigen::VectorXd dq;            // projection: the displacement of a pass
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
+  Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
   State predicted;  // q_k advanced by ahead * v_k: where the contact rows are evaluated
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
 
