@@ -7,5 +7,5 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/.." && pwd)
 exec "$here/record_video.sh" --scene "$repo/urdf/c60.urdf" --config "$repo/config/c60_trip.yaml" \
-  --rviz "$repo/config/c60.rviz" --duration 13 --snapshot-at 9 \
+  --rviz "$repo/config/c60.rviz" --keep-panel nscd_sim/KeyFigures --duration 13 --snapshot-at 9 \
   --output "$repo/out/c60_trip.mp4" "$@"

@@ -222,9 +222,10 @@ void appendEventMarkers(const std::vector<EventLabel>& events, const MarkerStyle
   char buf[160];
   for (size_t k = 0; k < events.size(); ++k) {
     Marker m = makeMarker(style, stamp, "events", static_cast<int>(k), Marker::TEXT_VIEW_FACING);
-    // The status text is two lines centred on its position: the list starts below.
+    // The status text is two lines centred on its position, which RViz draws about 9
+    // text heights apart: the list starts below the second line.
     m.pose.position.x = text.position.x();
-    m.pose.position.y = text.position.y() - text.height * (2.6 + 1.5 * k);
+    m.pose.position.y = text.position.y() - text.height * (6.5 + 1.6 * k);
     m.pose.position.z = text.position.z();
     m.scale.z = text.height;
     m.color = color(1.0f, 0.6f, 0.1f);

@@ -229,7 +229,7 @@ TEST(ContactMarkers, EventLabelsListedUnderTheStatusText) {
   EXPECT_EQ(a.markers[0].ns, "events");
   EXPECT_EQ(a.markers[0].text, "latch released  t = 8.430 ms");
   EXPECT_EQ(a.markers[1].text, "C7 open  t = 9.877 ms");
-  EXPECT_LT(a.markers[0].pose.position.y, -0.02 - 2 * 0.002);  // below the two status lines
+  EXPECT_LT(a.markers[0].pose.position.y, -0.02 - 5 * 0.002);  // below the two status lines
   EXPECT_LT(a.markers[1].pose.position.y, a.markers[0].pose.position.y - 0.002);
 }
 
