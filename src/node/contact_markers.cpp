@@ -12,6 +12,7 @@ namespace {
 using visualization_msgs::Marker;
 
 constexpr int kCircleSegments = 48;
+constexpr double kMaxDrawnEcc = 1.5;  // eccentricity arrows: at most 1.5 ring radii
 
 std_msgs::ColorRGBA color(float r, float g, float b, float a = 1.0f) {
   std_msgs::ColorRGBA c;
@@ -186,7 +187,10 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
     out.markers.push_back(m);
 
     const nscd::Vec3 dir = std::cos(v.angle) * v.ref + std::sin(v.angle) * e2;
-    const nscd::Vec3 tip = center + v.ecc * radius * dir;
+    // Drawn at most 1.5 ring radii long: a journal far outside its clearance (a
+    // joint come apart) would otherwise draw a line across the whole scene; the
+    // label then gives the value.
+    const nscd::Vec3 tip = center + std::min(v.ecc, kMaxDrawnEcc) * radius * dir;
     const std_msgs::ColorRGBA& c = v.fn > 0 ? magenta : cyan;
     // The journal's offset: an arrow from the bearing centre (a bare line when too
     // short for an arrow head).
@@ -206,8 +210,9 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
     out.markers.push_back(m);
 
     if (style.labels && !v.name.empty()) {
-      char buf[48] = "";
-      if (v.fn > 0) std::snprintf(buf, sizeof buf, " %.2f N", v.fn);
+      char buf[80] = "";
+      int n = v.fn > 0 ? std::snprintf(buf, sizeof buf, " %.2f N", v.fn) : 0;
+      if (v.ecc > kMaxDrawnEcc) std::snprintf(buf + n, sizeof buf - n, " (e = %.3g c_r)", v.ecc);
       // Outside the ring, opposite the eccentricity (the arrow side stays free).
       const nscd::Vec3 side = v.ecc > 0.05 ? nscd::Vec3(-dir) : nscd::Vec3(-e2);
       label("clearance_label", id, center + (radius + 1.2 * label_h) * side, v.name + buf,

@@ -56,7 +56,8 @@ EccentricityView eccentricityView(const nscd::Simulator& sim, int clearance_join
 // clearance joint: the clearance circle magnified by ecc_scale (radius
 // c_r * ecc_scale, grey) and a line from the bearing centre to the magnified
 // journal-centre offset (cyan while free, magenta while in contact), drawn as an
-// arrow with a sphere at its tip. A clearance joint whose clearance is not smaller
+// arrow with a sphere at its tip, at most 1.5 ring radii long (a larger
+// eccentricity, a joint come apart, is written in the label: "J6 (e = 800 c_r)"). A clearance joint whose clearance is not smaller
 // than its journal (c_r >= r_j: a stand-in, not a bearing) gets no ring.
 // With style.labels: per named contact with a force, one text "NAME 12.3 N" at the
 // tip of its largest normal-force arrow; per clearance joint "NAME" (and its force

@@ -209,6 +209,14 @@ TEST(ContactMarkers, LabelsNameContactsAndJointsAndMarkerZLifts) {
   EXPECT_FALSE(find(a, "clearance_limit", 1)) << "the stand-in joint's 50 m ring is drawn";
   EXPECT_FALSE(find(a, "clearance_label", 1));
 
+  // A journal far outside its clearance: the arrow stops at 1.5 ring radii, the
+  // label gives the eccentricity.
+  j4.ecc = 800;
+  nscd_node::buildContactMarkers({}, {j4}, style, ros::Time(), a, names);
+  EXPECT_NEAR(find(a, "eccentricity", 0)->points[1].x, 1.5 * 0.005, 1e-12);
+  EXPECT_EQ(find(a, "clearance_label", 0)->text, "J4 3.50 N (e = 800 c_r)");
+  j4.ecc = 1;
+
   style.labels = false;
   style.have_marker_z = false;
   nscd_node::buildContactMarkers(contacts, {j4}, style, ros::Time(), a, names);
