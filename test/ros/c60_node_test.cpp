@@ -14,6 +14,7 @@
 #include <ros/ros.h>
 
 #include <std_srvs/Empty.h>
+#include <visualization_msgs/Marker.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "nscd_sim/ContactArray.h"
@@ -218,6 +219,29 @@ TEST(C60Node, ProbeScheduleTripsTheBreaker) {
       nscd_test::nodeTopic("contact_markers"),
       [&](const MarkerArray& a) { return eventText(a, 0).empty(); }, 10.0);
   EXPECT_TRUE(cleared) << "event labels still shown after ~reset";
+
+  // The display parameters are read again every second: a bad contact_labels is
+  // warned about and the labels stay on (the node runs on); false removes them; a new
+  // force_scale shows in the status text's arrow scale.
+  auto hasLabels = [](const MarkerArray& a) {
+    for (const auto& m : a.markers)
+      if (m.ns == "clearance_label") return true;
+    return false;
+  };
+  ros::param::set("/nscd_sim_node/contact_labels", std::string("yes"));
+  ros::WallDuration(2.5).sleep();
+  auto still = nscd_test::waitForMessage<MarkerArray>(nscd_test::nodeTopic("contact_markers"), 10.0);
+  ASSERT_TRUE(still) << "no markers after a bad contact_labels: the node stopped?";
+  EXPECT_TRUE(hasLabels(*still)) << "a bad contact_labels switched the labels off";
+  ros::param::set("/nscd_sim_node/contact_labels", false);
+  ros::param::set("/nscd_sim_node/force_scale", 0.0006);
+  EXPECT_TRUE(nscd_test::waitForMessage<MarkerArray>(
+      nscd_test::nodeTopic("contact_markers"), [&](const MarkerArray& a) { return !hasLabels(a); }, 10.0))
+      << "contact_labels false did not remove the labels";
+  EXPECT_TRUE(nscd_test::waitForMessage<visualization_msgs::Marker>(
+      nscd_test::nodeTopic("status"),
+      [](const visualization_msgs::Marker& m) { return m.text.find("1 mm = 1.67 N") != std::string::npos; }, 10.0))
+      << "the status text does not show the new force_scale";
 }
 
 int main(int argc, char** argv) {
