@@ -28,7 +28,9 @@ install_debs() {
 if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # Build: compilers, catkin, ROS 1 C++ libraries and message headers, Eigen, parsers, tests.
   # Tools the scripts, launch files and tests call: roslaunch/rosrun/rostest, rosservice
-  # (record_video.sh pauses the node), rostopic/rosbag (docs/node.md), and the Python
+  # (record_video.sh pauses the node), rostopic/rosbag (docs/node.md; python3-rosbag also
+  # holds rosbag's play and record that launch/c60_playback.launch runs; rospy: the
+  # rosbag round-trip test and record_video.sh --stills), and the Python
   # message packages those tools load for every type the node publishes or serves.
   # Off-screen recording: Xvfb, xwininfo, ffmpeg. Plots: matplotlib. bc: c60_bench.sh.
   # The RViz panel plugin: librviz-dev, qtbase5-dev (Qt5 Widgets, moc); its test: xvfb.
@@ -37,7 +39,7 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # cluster: python3-distributed.
   install_debs deps build-essential cmake pkg-config \
     ros-base-dev ros-desktop-dev librostest-dev python3-rostest rosbash \
-    python3-roslaunch python3-rosservice python3-rostopic python3-rosbag python3-rosnode \
+    python3-roslaunch python3-rosservice python3-rostopic python3-rosbag python3-rosnode python3-rospy \
     python3-rosparam python3-rosmsg rospack-tools \
     python3-std-msgs python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs \
     python3-tf2-msgs python3-rosgraph-msgs python3-sensor-msgs python3-visualization-msgs \

@@ -16,6 +16,10 @@
 #         --size WxH        video size (default 1280x720)
 #         --fps N           frames per second (default 15)
 #         --panels          keep RViz's side panels (default: 3D view and Time panel only)
+#         --keep-panel CLASS  keep this panel too (e.g. nscd_sim/KeyFigures); repeatable
+#         --stills T1,T2,...  no video: step the paused simulation (~step, 20 steps
+#                           at a time, so plots fill in) to each sim time T (s) and
+#                           write a PNG of the screen there: <output without .mp4>_<T in ms>ms.png
 #     -h, --help
 # The package must be built: with NSCD_WS (default <repo>/.build/ws, what
 # scripts/build.sh makes) or an environment where `rospack find nscd_sim` works.
@@ -29,8 +33,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/.." && pwd)
 
 scene="" duration=5 output="" png="" snapshot_at="" config="" rviz="" rtf=""
-size=1280x720 fps=15 panels=0
-usage() { sed -n '2,23p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+size=1280x720 fps=15 panels=0 keep="" stills=""
+usage() { sed -n '2,28p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     -s|--scene) scene=$2; shift 2 ;;
@@ -44,6 +48,8 @@ while [ $# -gt 0 ]; do
     --size) size=$2; shift 2 ;;
     --fps) fps=$2; shift 2 ;;
     --panels) panels=1; shift ;;
+    --keep-panel) keep="$keep|$2"; shift 2 ;;
+    --stills) stills=$2; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "record_video.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -123,8 +129,9 @@ printf '\nstart_paused: true\n' >> "$tmp/node.yaml"
 [ -z "$rtf" ] || printf 'real_time_factor: %s\n' "$rtf" >> "$tmp/node.yaml"
 # The RViz window fills the screen; without --panels only the Time panel (it
 # shows sim time) is kept, so the 3D view takes the rest.
-awk -v only_time="$((1 - panels))" -v w="$width" -v h="$height" '
-  /^  - Class: / { skip = (only_time && $0 !~ /rviz\/Time$/) }
+awk -v only_time="$((1 - panels))" -v w="$width" -v h="$height" -v keep="${keep#|}" '
+  /^  - Class: / { c = $0; sub(/^  - Class: /, "", c)
+                   skip = (only_time && c != "rviz/Time" && !(keep != "" && c ~ ("^(" keep ")$"))) }
   /^[^ ]/ { skip = 0 }
   /^  Height: / { print "  Height: " h; next }
   /^  Width: / { print "  Width: " w; next }
@@ -142,6 +149,34 @@ xwininfo -root -tree | grep -qi 'rviz' || { echo "record_video.sh: no RViz windo
 rosservice call --wait /nscd_sim_node/pause "data: true" >/dev/null
 sleep 2  # RViz loads the robot model and receives the first transforms
 launch_tree=$(descendants "$launch_pid")
+
+# 3a. Stills: step to each sim time, let RViz draw, grab the screen.
+if [ -n "$stills" ]; then
+  /usr/bin/python3 - "$stills" "${output%.*}" "${width}x${height}" "$DISPLAY" <<'PY'
+import subprocess, sys, time
+import rospy
+from nscd_sim.srv import Step
+times = [float(x) for x in sys.argv[1].split(',') if x.strip()]
+prefix, size, display = sys.argv[2:5]
+rospy.init_node('record_stills', anonymous=True, disable_signals=True)
+rospy.wait_for_service('/nscd_sim_node/step', 30)
+step = rospy.ServiceProxy('/nscd_sim_node/step', Step)
+t = 0.0
+for target in times:
+    while t < target - 1e-9:
+        r = step(20)
+        if not r.success:
+            sys.exit('record_video.sh: ~step failed: ' + r.message)
+        t = r.sim_time
+        time.sleep(0.05)  # one publication per call: the panel's plot gets every point
+    time.sleep(3.0)       # RViz draws the last state
+    png = '%s_%gms.png' % (prefix, round(1e3 * target, 3))
+    subprocess.run(['ffmpeg', '-nostdin', '-y', '-loglevel', 'error', '-f', 'x11grab', '-draw_mouse', '0',
+                    '-video_size', size, '-i', display, '-frames:v', '1', png], check=True)
+    print('record_video.sh: %s at sim time %.6f s' % (png, t), file=sys.stderr)
+PY
+  exit 0
+fi
 
 # 3. Record; the simulation runs from when the grab starts.
 t_rec=$(date +%s.%N)

@@ -1,6 +1,8 @@
 // The key figures (~key_figures of the node) carry the CSV's names in the CSV's
 // order, and the same values as the simulator's queries.
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -54,4 +56,22 @@ TEST(KeyFigures, ValuesAreTheSimulatorsAndDoNotAllocate) {
   const long before = nscd_test::allocationCount();
   keyFigureValues(sim, v);
   EXPECT_EQ(nscd_test::allocationCount(), before);
+}
+
+// One figure by index (the node's event conditions): the same number as the whole
+// list, for every kind of figure; an index outside the list throws.
+TEST(KeyFigures, OneValueByIndexEqualsTheList) {
+  Simulator sim(loadScene(nscd_test::scenePath("urdf/c60.urdf")));
+  sim.setCommand(0, 0.05);
+  for (int k = 0; k < 30; ++k) sim.step();
+  std::vector<double> v;
+  keyFigureValues(sim, v);
+  ASSERT_FALSE(sim.model().springs.empty());  // every kind of figure is checked
+  ASSERT_FALSE(sim.model().actuators.empty());
+  for (size_t i = 0; i < v.size(); ++i) {
+    const double one = keyFigureValue(sim, static_cast<int>(i));
+    EXPECT_TRUE(one == v[i] || (std::isnan(one) && std::isnan(v[i]))) << keyFigureNames(sim.model())[i];
+  }
+  EXPECT_THROW(keyFigureValue(sim, static_cast<int>(v.size())), std::out_of_range);
+  EXPECT_THROW(keyFigureValue(sim, -1), std::out_of_range);
 }

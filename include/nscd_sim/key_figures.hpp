@@ -18,4 +18,8 @@ std::vector<std::string> keyFigureNames(const Model& model);
 // repeated calls do not allocate.
 void keyFigureValues(const Simulator& sim, std::vector<double>& values);
 
+// One value (index into keyFigureNames) without computing the others (the node's
+// event conditions are checked after every step). Throws std::out_of_range.
+double keyFigureValue(const Simulator& sim, int index);
+
 }  // namespace nscd

@@ -1,6 +1,9 @@
 // The named figures of a simulation's state (key_figures.hpp).
 #include "nscd_sim/key_figures.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace nscd {
 
 std::vector<std::string> keyFigureNames(const Model& m) {
@@ -39,6 +42,31 @@ void keyFigureValues(const Simulator& sim, std::vector<double>& v) {
     v.push_back(sim.command(static_cast<int>(a)));
     v.push_back(sim.actuatorEffort(static_cast<int>(a)));
   }
+}
+
+double keyFigureValue(const Simulator& sim, int index) {
+  const Model& m = sim.model();
+  int k = index;
+  if (k < 0) throw std::out_of_range("key figure index " + std::to_string(index));
+  for (size_t j = 0; j < m.joints.size(); ++j)
+    if (m.joints[j].type != JointType::Fixed && k-- == 0) return sim.jointPosition(static_cast<int>(j));
+  if (k < 3 * static_cast<int>(m.clearance_joints.size())) {
+    const int c = k / 3;
+    return k % 3 == 0 ? sim.clearanceEccentricity(c)
+                      : k % 3 == 1 ? sim.clearanceEccentricityAngle(c) : sim.clearanceNormalForce(c);
+  }
+  k -= 3 * static_cast<int>(m.clearance_joints.size());
+  if (k < 3 * static_cast<int>(m.contacts.size())) {
+    const int c = k / 3;
+    return k % 3 == 0 ? sim.contactGap(c)
+                      : k % 3 == 1 ? sim.contactNormalForce(c) : sim.contactTangentialForce(c);
+  }
+  k -= 3 * static_cast<int>(m.contacts.size());
+  if (k < static_cast<int>(m.springs.size())) return sim.springForce(k);
+  k -= static_cast<int>(m.springs.size());
+  if (k < 2 * static_cast<int>(m.actuators.size()))
+    return k % 2 == 0 ? sim.command(k / 2) : sim.actuatorEffort(k / 2);
+  throw std::out_of_range("key figure index " + std::to_string(index));
 }
 
 }  // namespace nscd

@@ -12,6 +12,7 @@ namespace {
 using visualization_msgs::Marker;
 
 constexpr int kCircleSegments = 48;
+constexpr double kMaxDrawnEcc = 1.5;  // eccentricity arrows: at most 1.5 ring radii
 
 std_msgs::ColorRGBA color(float r, float g, float b, float a = 1.0f) {
   std_msgs::ColorRGBA c;
@@ -71,6 +72,10 @@ void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
     std::snprintf(buf, sizeof buf, "   arrows: 1 mm = %.3g N", 1e-3 / style.force_scale);
     s += buf;
   }
+  if (style.ecc_scale > 0) {
+    std::snprintf(buf, sizeof buf, "   eccentricity x%.3g", style.ecc_scale);
+    s += buf;
+  }
   for (size_t i = 0; i < names.size() && i < values.size(); ++i) {
     std::snprintf(buf, sizeof buf, "%s%s %.3f", i == 0 ? "\n" : "   ", names[i].c_str(), values[i]);
     s += buf;
@@ -90,15 +95,17 @@ EccentricityView eccentricityView(const nscd::Simulator& sim, int cj) {
   v.ecc = sim.clearanceEccentricity(cj);
   v.angle = sim.clearanceEccentricityAngle(cj);
   v.fn = sim.clearanceNormalForce(cj);
+  v.journal_radius = j.radius;
+  v.name = j.name;
   return v;
 }
 
 void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
                          const std::vector<EccentricityView>& clearance,
                          const MarkerStyle& style, const ros::Time& stamp,
-                         visualization_msgs::MarkerArray& out) {
+                         visualization_msgs::MarkerArray& out, const MarkerNames& names) {
   out.markers.clear();
-  out.markers.reserve(1 + 3 * contacts.size() + 3 * clearance.size());
+  out.markers.reserve(1 + 3 * contacts.size() + 5 * clearance.size());
   Marker clear = makeMarker(style, stamp, "", 0, Marker::SPHERE);
   clear.action = Marker::DELETEALL;
   out.markers.push_back(clear);
@@ -108,10 +115,26 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
   const std_msgs::ColorRGBA blue = color(0.15f, 0.45f, 1.0f);
   const std_msgs::ColorRGBA yellow = color(1.0f, 0.85f, 0.1f);
   const std_msgs::ColorRGBA white = color(0.95f, 0.95f, 0.95f);
-  const std_msgs::ColorRGBA grey = color(0.6f, 0.6f, 0.6f, 0.8f);
+  const std_msgs::ColorRGBA grey = color(0.75f, 0.75f, 0.75f, 0.9f);
   const std_msgs::ColorRGBA cyan = color(0.1f, 0.9f, 0.9f);
-  const std_msgs::ColorRGBA magenta = color(0.9f, 0.1f, 0.9f);
+  const std_msgs::ColorRGBA magenta = color(1.0f, 0.2f, 1.0f);
+  const double label_h = style.label_size > 0 ? style.label_size : 3 * style.size;
+  const auto lifted = [&style](nscd::Vec3 p) {
+    if (style.have_marker_z) p.z() = style.marker_z;
+    return p;
+  };
+  auto label = [&](const char* ns, int id, const nscd::Vec3& at, const std::string& text,
+                   const std_msgs::ColorRGBA& c) {
+    Marker t = makeMarker(style, stamp, ns, id, Marker::TEXT_VIEW_FACING);
+    t.pose.position = toPoint(lifted(at));
+    t.scale.z = label_h;
+    t.color = c;
+    t.text = text;
+    out.markers.push_back(t);
+  };
 
+  // Per named source, the point with the largest normal force (its label's place).
+  std::vector<int> strongest_pair(names.contacts.size(), -1);
   Marker m;
   for (size_t i = 0; i < contacts.size(); ++i) {
     const nscd::ContactReport& c = contacts[i];
@@ -127,37 +150,92 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
     m.scale.x = m.scale.y = m.scale.z = style.size;
     m.color = white;
     out.markers.push_back(m);
+    if (!c.clearance && c.source >= 0 && c.source < static_cast<int>(strongest_pair.size()) &&
+        c.fn > 0 && (strongest_pair[c.source] < 0 || c.fn > contacts[strongest_pair[c.source]].fn))
+      strongest_pair[c.source] = id;
+  }
+  if (style.labels) {
+    char buf[48];
+    for (size_t p = 0; p < strongest_pair.size(); ++p) {
+      if (strongest_pair[p] < 0) continue;
+      double fn = 0;  // the pair's summed normal force
+      for (const nscd::ContactReport& c : contacts)
+        if (!c.clearance && c.source == static_cast<int>(p)) fn += c.fn;
+      const nscd::ContactReport& c = contacts[strongest_pair[p]];
+      std::snprintf(buf, sizeof buf, " %.2f N", fn);
+      // Beyond the arrow's tip, so the text does not hide the arrow.
+      const nscd::Vec3 at = c.point + style.force_scale * c.fn * c.normal + 0.7 * label_h * c.normal;
+      label("contact_label", static_cast<int>(p), at, names.contacts[p] + buf, white);
+    }
   }
 
   for (size_t i = 0; i < clearance.size(); ++i) {
     const EccentricityView& v = clearance[i];
+    if (v.journal_radius > 0 && !(v.radial < v.journal_radius)) continue;  // a stand-in
     const int id = static_cast<int>(i);
     const nscd::Vec3 e2 = v.axis.cross(v.ref);
     const double radius = v.radial * style.ecc_scale;
+    const nscd::Vec3 center = lifted(v.center);
 
     m = makeMarker(style, stamp, "clearance_limit", id, Marker::LINE_STRIP);
-    m.scale.x = 0.1 * style.size;
+    m.scale.x = 0.25 * style.size;
     m.color = grey;
     for (int k = 0; k <= kCircleSegments; ++k) {
       const double a = 2.0 * M_PI * k / kCircleSegments;
-      m.points.push_back(toPoint(v.center + radius * (std::cos(a) * v.ref + std::sin(a) * e2)));
+      m.points.push_back(toPoint(center + radius * (std::cos(a) * v.ref + std::sin(a) * e2)));
     }
     out.markers.push_back(m);
 
-    const nscd::Vec3 tip =
-        v.center + v.ecc * radius * (std::cos(v.angle) * v.ref + std::sin(v.angle) * e2);
+    const nscd::Vec3 dir = std::cos(v.angle) * v.ref + std::sin(v.angle) * e2;
+    // Drawn at most 1.5 ring radii long: a journal far outside its clearance (a
+    // joint come apart) would otherwise draw a line across the whole scene; the
+    // label then gives the value.
+    const nscd::Vec3 tip = center + std::min(v.ecc, kMaxDrawnEcc) * radius * dir;
     const std_msgs::ColorRGBA& c = v.fn > 0 ? magenta : cyan;
-    m = makeMarker(style, stamp, "eccentricity", id, Marker::LINE_LIST);
-    m.scale.x = 0.2 * style.size;
-    m.color = c;
-    m.points.push_back(toPoint(v.center));
+    // The journal's offset: an arrow from the bearing centre (a bare line when too
+    // short for an arrow head).
+    m = makeMarker(style, stamp, "eccentricity", id, Marker::ARROW);
+    m.points.push_back(toPoint(center));
     m.points.push_back(toPoint(tip));
+    m.scale.x = 0.5 * style.size;
+    m.scale.y = 1.2 * style.size;
+    m.scale.z = std::min(1.2 * style.size, 0.5 * (tip - center).norm());
+    m.color = c;
     out.markers.push_back(m);
 
     m = makeMarker(style, stamp, "eccentricity_tip", id, Marker::SPHERE);
     m.pose.position = toPoint(tip);
-    m.scale.x = m.scale.y = m.scale.z = 0.5 * style.size;
+    m.scale.x = m.scale.y = m.scale.z = 0.8 * style.size;
     m.color = c;
+    out.markers.push_back(m);
+
+    if (style.labels && !v.name.empty()) {
+      char buf[80] = "";
+      int n = v.fn > 0 ? std::snprintf(buf, sizeof buf, " %.2f N", v.fn) : 0;
+      if (v.ecc > kMaxDrawnEcc) std::snprintf(buf + n, sizeof buf - n, " (e = %.3g c_r)", v.ecc);
+      // Outside the ring, opposite the eccentricity (the arrow side stays free).
+      const nscd::Vec3 side = v.ecc > 0.05 ? nscd::Vec3(-dir) : nscd::Vec3(-e2);
+      label("clearance_label", id, center + (radius + 1.2 * label_h) * side, v.name + buf,
+            v.fn > 0 ? magenta : cyan);
+    }
+  }
+}
+
+void appendEventMarkers(const std::vector<EventLabel>& events, const MarkerStyle& style,
+                        const StatusText& text, const ros::Time& stamp,
+                        visualization_msgs::MarkerArray& out) {
+  char buf[160];
+  for (size_t k = 0; k < events.size(); ++k) {
+    Marker m = makeMarker(style, stamp, "events", static_cast<int>(k), Marker::TEXT_VIEW_FACING);
+    // The status text is two lines centred on its position, which RViz draws about 9
+    // text heights apart: the list starts below the second line.
+    m.pose.position.x = text.position.x();
+    m.pose.position.y = text.position.y() - text.height * (6.5 + 1.6 * k);
+    m.pose.position.z = text.position.z();
+    m.scale.z = text.height;
+    m.color = color(1.0f, 0.6f, 0.1f);
+    std::snprintf(buf, sizeof buf, "%s  t = %.3f ms", events[k].label.c_str(), 1e3 * events[k].time);
+    m.text = buf;
     out.markers.push_back(m);
   }
 }

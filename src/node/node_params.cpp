@@ -33,13 +33,68 @@ double numberParam(const ros::NodeHandle& pnh, const std::string& key, double fa
   return x;
 }
 
+// A boolean parameter (true/false, or 0/1); false with a message if it is not one.
+bool boolParam(const ros::NodeHandle& pnh, const std::string& key, bool& out, std::string& error) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(key, v)) return true;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeBoolean) {
+    out = static_cast<bool>(v);
+    return true;
+  }
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt && (int(v) == 0 || int(v) == 1)) {
+    out = int(v) == 1;
+    return true;
+  }
+  std::string text;
+  paramToString(v, text);
+  error = "parameter " + pnh.resolveName(key) + ": expected true or false, got '" + text + "'";
+  return false;
+}
+
+// numberParam without the throw: false and a message.
+bool numberParamChecked(const ros::NodeHandle& pnh, const std::string& key, double& out, bool positive,
+                        std::string& error) {
+  try {
+    out = numberParam(pnh, key, out, positive);
+    return true;
+  } catch (const nscd::SceneError& e) {
+    error = e.what();
+    return false;
+  }
+}
+
 }  // namespace
+
+void readDisplayParams(const ros::NodeHandle& pnh, MarkerStyle& style, std::vector<std::string>& errors) {
+  std::string error;
+  bool labels = style.labels;
+  if (boolParam(pnh, "contact_labels", labels, error)) style.labels = labels;
+  else errors.push_back(error + "; labels stay " + (style.labels ? "on" : "off"));
+  double x = style.force_scale;
+  if (numberParamChecked(pnh, "force_scale", x, false, error)) style.force_scale = x;
+  else errors.push_back(error + " (m of arrow per N); kept " + std::to_string(style.force_scale));
+  x = style.ecc_scale;
+  if (numberParamChecked(pnh, "ecc_scale", x, false, error)) style.ecc_scale = x;
+  else errors.push_back(error + " (the eccentricity magnification); kept " + std::to_string(style.ecc_scale));
+}
+
+EventTracker eventTracker(const ros::NodeHandle& pnh, const NodeOptions& o, const nscd::Model& model) {
+  const std::vector<std::string> names = nscd::keyFigureNames(model);
+  std::vector<EventDefinition> defs;
+  for (const std::string& text : o.events) {
+    EventDefinition d;
+    std::string error;
+    if (parseEventDefinition(text, names, d, error)) defs.push_back(d);
+    else ROS_WARN("parameter %s: event %s; left out", pnh.resolveName("events").c_str(), error.c_str());
+  }
+  return EventTracker(defs);
+}
 
 const std::vector<std::string>& nodeParamKeys() {
   static const std::vector<std::string> keys = {
       "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
       "force_scale", "marker_size", "ecc_scale", "schedule", "overlay_figures",
-      "overlay_position", "overlay_size"};
+      "overlay_position", "overlay_size", "contact_labels", "label_size", "marker_z", "events"};
   return keys;
 }
 
@@ -51,6 +106,42 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   o.markers.force_scale = numberParam(pnh, "force_scale", o.markers.force_scale, false);
   o.markers.size = numberParam(pnh, "marker_size", o.markers.size, true);
   o.markers.ecc_scale = numberParam(pnh, "ecc_scale", o.markers.ecc_scale, false);
+  // The labels, their size, the marker plane and the events only change what is
+  // drawn: a bad value gets a warning and the default, and the node runs.
+  std::vector<std::string> display_errors;
+  readDisplayParams(pnh, o.markers, display_errors);
+  for (const std::string& e : display_errors) ROS_WARN("%s", e.c_str());
+  std::string error;
+  double x = 0;
+  if (numberParamChecked(pnh, "label_size", x, true, error)) o.markers.label_size = x;
+  else ROS_WARN("%s (text height, m); the default (3 marker_size) is used", error.c_str());
+  if (pnh.hasParam("marker_z")) {
+    x = 0;
+    XmlRpc::XmlRpcValue z;
+    pnh.getParam("marker_z", z);
+    if (z.getType() == XmlRpc::XmlRpcValue::TypeDouble || z.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+      o.markers.have_marker_z = true;
+      o.markers.marker_z = z.getType() == XmlRpc::XmlRpcValue::TypeInt ? double(int(z)) : double(z);
+    } else {
+      ROS_WARN("parameter %s: expected a number (m, world z of the eccentricity markers and labels); "
+               "they stay at the bearings' own height", pnh.resolveName("marker_z").c_str());
+    }
+  }
+  XmlRpc::XmlRpcValue ev;
+  if (pnh.getParam("events", ev)) {
+    if (ev.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      o.events.push_back(static_cast<std::string>(ev));
+    } else if (ev.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+      for (int i = 0; i < ev.size(); ++i) {
+        if (ev[i].getType() == XmlRpc::XmlRpcValue::TypeString) o.events.push_back(static_cast<std::string>(ev[i]));
+        else ROS_WARN("parameter %s: entry %d is not a string \"LABEL: FIGURE > VALUE\"; left out",
+                      pnh.resolveName("events").c_str(), i);
+      }
+    } else {
+      ROS_WARN("parameter %s: expected a list of strings \"LABEL: FIGURE > VALUE\"; no events shown",
+               pnh.resolveName("events").c_str());
+    }
+  }
   pnh.param("start_paused", o.start_paused, o.start_paused);
   ros::param::param("/use_sim_time", o.use_sim_time, false);
   o.overlay_size = numberParam(pnh, "overlay_size", 0.0, false);

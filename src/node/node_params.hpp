@@ -9,6 +9,7 @@
 #include <ros/ros.h>
 
 #include "contact_markers.hpp"
+#include "run_events.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/model.hpp"
 
@@ -29,6 +30,7 @@ struct NodeOptions {
   bool overlay_figures_set = false;
   std::vector<double> overlay_position;  // empty: default
   double overlay_size = 0;               // 0: default
+  std::vector<std::string> events;       // ~events definitions (run_events.hpp)
 };
 
 // The node's own parameter names (the simulation settings come on top).
@@ -50,6 +52,15 @@ struct StatusOverlay {
   double height = 0.01;
 };
 StatusOverlay statusOverlay(const ros::NodeHandle& pnh, const NodeOptions& o, const nscd::Model& model);
+
+// The ~events definitions parsed against the model's key figures. A definition
+// that cannot be used gets one warning naming it and is left out: the node runs.
+EventTracker eventTracker(const ros::NodeHandle& pnh, const NodeOptions& o, const nscd::Model& model);
+
+// The display parameters that can change while the node runs (rosparam set):
+// contact_labels, force_scale, ecc_scale. Reads those present into `style`; a bad
+// value leaves its field as it was and adds one line to `errors`.
+void readDisplayParams(const ros::NodeHandle& pnh, MarkerStyle& style, std::vector<std::string>& errors);
 
 // The ~schedule texts bound to the model's actuators. Throws nscd::SceneError.
 std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,

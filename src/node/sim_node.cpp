@@ -71,7 +71,8 @@ class SimNode {
           const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
           const StatusOverlay& overlay)
       : nh_(nh), pnh_(pnh), sim_(std::move(sim)), opt_(options),
-        pacer_(options.real_time_factor, sim_->model().settings.dt), overlay_(overlay) {
+        pacer_(options.real_time_factor, sim_->model().settings.dt), overlay_(overlay),
+        events_(eventTracker(pnh, options, sim_->model())) {
     for (const nscd::BoundSchedule& b : schedules) schedules_.push_back({b.actuator, b.schedule, true});
     const nscd::Model& model = sim_->model();
     scene_name_ = model.source_file;
@@ -90,6 +91,12 @@ class SimNode {
     }
     for (size_t i = 0; i < model.clearance_joints.size(); ++i)
       eccentricity_.push_back(eccentricityView(*sim_, static_cast<int>(i)));
+    for (const nscd::ContactPair& c : model.contacts) marker_names_.contacts.push_back(c.name);
+    for (const nscd::ClearanceJoint& j : model.clearance_joints) marker_names_.clearance.push_back(j.name);
+    for (const EventDefinition& d : events_.definitions())
+      ROS_INFO("nscd_sim_node: event '%s' shown when its condition holds (%zu figure%s %s %g)",
+               d.label.c_str(), d.figures.size(), d.figures.size() == 1 ? "" : "s",
+               d.greater ? ">" : "<", d.threshold);
 
     // tf2_ros::TransformBroadcaster without its publisher hidden: a new /tf
     // subscriber gets the last transforms at once (see onTfSubscriber).
@@ -133,6 +140,7 @@ class SimNode {
     pause_srv_ = pnh_.advertiseService("pause", &SimNode::onPause, this);
     step_srv_ = pnh_.advertiseService("step", &SimNode::onStep, this);
     topic_check_ = nh_.createWallTimer(ros::WallDuration(2.0), &SimNode::checkCommandTopics, this);
+    display_check_ = nh_.createWallTimer(ros::WallDuration(1.0), &SimNode::refreshDisplay, this);
 
     ROS_INFO("nscd_sim_node: %s: %zu bodies, %zu links, %zu actuators, dt=%g s, "
              "real_time_factor=%g, publish_rate=%g Hz%s",
@@ -262,7 +270,12 @@ class SimNode {
       ++window_.step_failures;
       ROS_ERROR("nscd_sim_node: step failed at %s; stepping paused until ~reset", buf);
       diagnostics_requested_ = true;
+      return;
     }
+    if (!events_.empty())
+      for (int e : events_.check(*sim_))
+        ROS_INFO("nscd_sim_node: event '%s' at t=%.6f ms (step %llu)",
+                 events_.definitions()[e].label.c_str(), 1e3 * sim_->state().t, steps_);
   }
 
   void updateRunning() { running_ = !paused_ && !failed_; }
@@ -290,6 +303,7 @@ class SimNode {
     {
       const auto lock = callbackLock();
       sim_->reset();
+      events_.reset();
       restartSchedules();
       steps_ = 0;
       window_.unconverged_total = 0;
@@ -351,6 +365,29 @@ class SimNode {
       if (!actuator_names_.count(name) && unknown_topic_throttle_.ready(10.0))
         ROS_WARN("nscd_sim_node: %s is published but the scene has no actuator '%s'", n.c_str(),
                  name.c_str());
+    }
+  }
+
+  // The display parameters that may change while the node runs (rosparam set).
+  void refreshDisplay(const ros::WallTimerEvent&) {
+    MarkerStyle style;
+    {
+      const auto lock = callbackLock();
+      style = opt_.markers;
+    }
+    std::vector<std::string> errors;
+    readDisplayParams(pnh_, style, errors);
+    std::string all;
+    for (const std::string& e : errors) all += (all.empty() ? "" : "\n") + e;
+    if (!all.empty() && all != display_error_) ROS_WARN("nscd_sim_node: %s", all.c_str());
+    display_error_ = all;
+    const auto lock = callbackLock();
+    if (style.labels != opt_.markers.labels || style.force_scale != opt_.markers.force_scale ||
+        style.ecc_scale != opt_.markers.ecc_scale) {
+      ROS_INFO("nscd_sim_node: contact_labels %s, force_scale %g m/N, ecc_scale %g",
+               style.labels ? "on" : "off", style.force_scale, style.ecc_scale);
+      opt_.markers = style;
+      publish_requested_ = true;
     }
   }
 
@@ -437,7 +474,14 @@ class SimNode {
       if (want_markers) {
         for (size_t i = 0; i < eccentricity_.size(); ++i)
           eccentricity_[i] = eccentricityView(*sim_, static_cast<int>(i));
-        buildContactMarkers(sim_->contactPoints(), eccentricity_, opt_.markers, stamp, markers_msg_);
+        buildContactMarkers(sim_->contactPoints(), eccentricity_, opt_.markers, stamp, markers_msg_,
+                            marker_names_);
+        if (!events_.empty()) {
+          StatusText text;
+          text.position = overlay_.position;
+          text.height = overlay_.height;
+          appendEventMarkers(events_.happened(), opt_.markers, text, stamp, markers_msg_);
+        }
       }
     }
     if (publish_tf) {
@@ -532,12 +576,15 @@ class SimNode {
   std::vector<int> joint_state_index_;  // the joints of joint_states_msg_ (not fixed)
   visualization_msgs::MarkerArray markers_msg_;
   std::vector<EccentricityView> eccentricity_;
+  MarkerNames marker_names_;
+  EventTracker events_;  // guarded by mutex_
+  std::string display_error_;  // the last display-parameter warning (timer thread)
 
   ros::Publisher tf_pub_, contacts_pub_, key_figures_pub_, joint_states_pub_, status_pub_, markers_pub_, diagnostics_pub_, clock_pub_;
   std::vector<ros::Subscriber> command_subs_;
   std::set<std::string> actuator_names_;
   ros::ServiceServer reset_srv_, pause_srv_, step_srv_;
-  ros::WallTimer topic_check_;
+  ros::WallTimer topic_check_, display_check_;
   WallThrottle command_throttle_, unknown_topic_throttle_, unconverged_throttle_;
 };
 

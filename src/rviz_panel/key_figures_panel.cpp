@@ -121,14 +121,13 @@ KeyFiguresPanel::KeyFiguresPanel(QWidget* parent)
   topic_row->addWidget(window_spin_);
   layout->addLayout(topic_row);
 
-  auto* body = new QHBoxLayout;
+  // The chart above the figure list: in a narrow dock the chart keeps the width.
+  chart_ = new StripChart(model_, this);
+  layout->addWidget(chart_, 3);
   name_list_ = new QListWidget;
   name_list_->setToolTip("Check the figures to plot (names seen on the topic)");
-  name_list_->setMaximumWidth(180);
-  body->addWidget(name_list_);
-  chart_ = new StripChart(model_, this);
-  body->addWidget(chart_, 1);
-  layout->addLayout(body, 1);
+  name_list_->setMinimumHeight(60);
+  layout->addWidget(name_list_, 1);
 
   auto* buttons = new QHBoxLayout;
   pause_button_ = new QPushButton("Pause");
@@ -141,11 +140,16 @@ KeyFiguresPanel::KeyFiguresPanel(QWidget* parent)
   buttons->addWidget(step_button_);
   buttons->addWidget(step_count_);
   buttons->addWidget(reset_button_);
+  buttons->addStretch(1);
+  layout->addLayout(buttons);
+  // The time and the answers on lines of their own, wrapped: the panel stays narrow
+  // enough to leave the 3D view most of the window.
   time_label_ = new QLabel("t = --");
   time_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
-  buttons->addWidget(time_label_, 1);
-  layout->addLayout(buttons);
+  time_label_->setWordWrap(true);
+  layout->addWidget(time_label_);
   message_label_ = new QLabel;
+  message_label_->setWordWrap(true);
   layout->addWidget(message_label_);
 
   connect(topic_edit_, &QLineEdit::editingFinished, this, &KeyFiguresPanel::topicEdited);

@@ -4,6 +4,8 @@
 // scenario of scripts/c60_trip.sh) and the breaker trips at the same step as the
 // engine in-process (C7 opens at 9.9 ms in nscd_run).
 #include <cmath>
+#include <cstdio>
+#include <vector>
 #include <functional>
 #include <memory>
 #include <string>
@@ -11,7 +13,12 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
+#include <std_srvs/Empty.h>
+#include <visualization_msgs/Marker.h>
+#include <visualization_msgs/MarkerArray.h>
+
 #include "nscd_sim/ContactArray.h"
+#include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
@@ -147,6 +154,94 @@ TEST(C60Node, ProbeScheduleTripsTheBreaker) {
               nscd::applySchedules(schedules, s.state().t + dt, s);
             }, touch->sim_time))
       << "the node and the engine open C7 at different steps";
+
+  // The event labels (~events of c60_trip.test; its third definition is malformed and
+  // left out): after 2 ms more, ~contact_markers lists "latch released" and "C7 open"
+  // at the sim times the in-process run gives by the scripts' definitions (every C4
+  // pair open by more than 20 um; the C7 gap past 0.1 mm), checked figure by figure.
+  ASSERT_TRUE(g_node->step(200, 60.0));
+  using visualization_msgs::MarkerArray;
+  auto eventText = [](const MarkerArray& a, int id) {
+    for (const auto& m : a.markers)
+      if (m.ns == "events" && m.id == id) return m.text;
+    return std::string();
+  };
+  auto markers = nscd_test::waitForMessage<MarkerArray>(
+      nscd_test::nodeTopic("contact_markers"),
+      [&](const MarkerArray& a) { return !eventText(a, 1).empty(); }, 10.0);
+  ASSERT_TRUE(markers) << "no event labels on ~contact_markers";
+  EXPECT_TRUE(eventText(*markers, 2).empty()) << "the malformed event was not left out";
+  // contact_labels true: the loaded contacts and every bearing are labelled.
+  int contact_labels = 0, j4_labels = 0;
+  for (const auto& m : markers->markers) {
+    contact_labels += m.ns == "contact_label" && m.text.size() > 2 &&
+                      m.text.compare(m.text.size() - 2, 2, " N") == 0;
+    j4_labels += m.ns == "clearance_label" && m.text.rfind("J4", 0) == 0;
+  }
+  EXPECT_GT(contact_labels, 0) << "no contact labels";
+  EXPECT_EQ(j4_labels, 1) << "no J4 label";
+
+  nscd::Simulator ref(nscd::loadScene(nscd_test::sceneParam()));
+  const std::vector<std::string> names = nscd::keyFigureNames(ref.model());
+  std::vector<int> c4;
+  int c7 = -1;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == "C7.gap") c7 = static_cast<int>(i);
+    if (names[i] == "C4.gap" || (names[i].rfind("C4_", 0) == 0 && names[i].size() > 4 &&
+                                 names[i].compare(names[i].size() - 4, 4, ".gap") == 0))
+      c4.push_back(static_cast<int>(i));
+  }
+  ASSERT_GE(c7, 0);
+  ASSERT_GE(c4.size(), 4u);
+  double t_release = -1, t_open = -1;
+  std::vector<double> v;
+  for (int k = 0; k < 1400 && t_open < 0; ++k) {
+    nscd::applySchedules(schedules, ref.state().t + dt, ref);
+    ref.step();
+    nscd::keyFigureValues(ref, v);
+    bool released = true;
+    for (int i : c4) released = released && v[i] > 2e-5;
+    if (released && t_release < 0) t_release = ref.state().t;
+    if (v[c7] > 1e-4) t_open = ref.state().t;
+  }
+  ASSERT_GT(t_release, touch->sim_time) << "in-process: the latch did not release after the touch";
+  ASSERT_GT(t_open, t_release) << "in-process: C7 did not open after the release";
+  char expect[80];
+  std::snprintf(expect, sizeof expect, "latch released  t = %.3f ms", 1e3 * t_release);
+  EXPECT_EQ(eventText(*markers, 0), expect);
+  std::snprintf(expect, sizeof expect, "C7 open  t = %.3f ms", 1e3 * t_open);
+  EXPECT_EQ(eventText(*markers, 1), expect);
+
+  // ~reset clears them.
+  std_srvs::Empty reset;
+  ASSERT_TRUE(nscd_test::callService(nscd_test::nodeTopic("reset"), reset));
+  auto cleared = nscd_test::waitForMessage<MarkerArray>(
+      nscd_test::nodeTopic("contact_markers"),
+      [&](const MarkerArray& a) { return eventText(a, 0).empty(); }, 10.0);
+  EXPECT_TRUE(cleared) << "event labels still shown after ~reset";
+
+  // The display parameters are read again every second: a bad contact_labels is
+  // warned about and the labels stay on (the node runs on); false removes them; a new
+  // force_scale shows in the status text's arrow scale.
+  auto hasLabels = [](const MarkerArray& a) {
+    for (const auto& m : a.markers)
+      if (m.ns == "clearance_label") return true;
+    return false;
+  };
+  ros::param::set("/nscd_sim_node/contact_labels", std::string("yes"));
+  ros::WallDuration(2.5).sleep();
+  auto still = nscd_test::waitForMessage<MarkerArray>(nscd_test::nodeTopic("contact_markers"), 10.0);
+  ASSERT_TRUE(still) << "no markers after a bad contact_labels: the node stopped?";
+  EXPECT_TRUE(hasLabels(*still)) << "a bad contact_labels switched the labels off";
+  ros::param::set("/nscd_sim_node/contact_labels", false);
+  ros::param::set("/nscd_sim_node/force_scale", 0.0006);
+  EXPECT_TRUE(nscd_test::waitForMessage<MarkerArray>(
+      nscd_test::nodeTopic("contact_markers"), [&](const MarkerArray& a) { return !hasLabels(a); }, 10.0))
+      << "contact_labels false did not remove the labels";
+  EXPECT_TRUE(nscd_test::waitForMessage<visualization_msgs::Marker>(
+      nscd_test::nodeTopic("status"),
+      [](const visualization_msgs::Marker& m) { return m.text.find("1 mm = 1.67 N") != std::string::npos; }, 10.0))
+      << "the status text does not show the new force_scale";
 }
 
 int main(int argc, char** argv) {

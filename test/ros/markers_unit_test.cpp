@@ -6,6 +6,7 @@
 
 #include "contact_markers.hpp"
 #include "ros_conversions.hpp"
+#include "run_events.hpp"
 
 using visualization_msgs::Marker;
 using visualization_msgs::MarkerArray;
@@ -147,6 +148,123 @@ TEST(ContactMarkers, StatusTextShowsTimeScaleAndFigures) {
   EXPECT_NE(m.text.find("1 mm = 3.33 N"), std::string::npos) << m.text;
   EXPECT_NE(m.text.find("C7.fn 13.250"), std::string::npos) << m.text;
   EXPECT_NE(m.text.find("probe.effort 2.500"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("eccentricity x50"), std::string::npos) << m.text;  // MarkerStyle's default
+}
+
+// Labels: one per named contact with a force (its summed force, at the tip of its
+// largest arrow, past it along the normal), one per clearance joint; none when off.
+// marker_z lifts the eccentricity markers and labels; a stand-in joint (c_r >= r_j)
+// gets no ring.
+TEST(ContactMarkers, LabelsNameContactsAndJointsAndMarkerZLifts) {
+  nscd_node::MarkerStyle style;
+  style.force_scale = 0.001;
+  style.size = 0.001;
+  style.labels = true;
+  style.label_size = 0.002;
+  style.have_marker_z = true;
+  style.marker_z = 0.05;
+  std::vector<nscd::ContactReport> contacts = {report({0, 0, 0}, {0, 1, 0}, 2.0, {0, 0, 0}, false),
+                                               report({0.01, 0, 0}, {0, 1, 0}, 5.0, {0, 0, 0}, false),
+                                               report({0.02, 0, 0}, {1, 0, 0}, 0.0, {0, 0, 0}, false)};
+  contacts[0].source = contacts[1].source = 1;  // two points of "C4_3"
+  contacts[2].source = 0;                        // "C7", open: no label
+  nscd_node::EccentricityView j4, stand_in;
+  j4.center = {0, 0.03, 0.001};
+  j4.radial = 1e-4;
+  j4.journal_radius = 1e-3;
+  j4.ecc = 1;
+  j4.angle = 0;
+  j4.fn = 3.5;
+  j4.name = "J4";
+  stand_in.radial = 1;
+  stand_in.journal_radius = 1e-3;
+  stand_in.name = "P3_axis";
+  nscd_node::MarkerNames names;
+  names.contacts = {"C7", "C4_3"};
+  names.clearance = {"J4", "P3_axis"};
+  MarkerArray a;
+  nscd_node::buildContactMarkers(contacts, {j4, stand_in}, style, ros::Time(), a, names);
+
+  const Marker* c4 = find(a, "contact_label", 1);
+  ASSERT_TRUE(c4);
+  EXPECT_EQ(c4->type, Marker::TEXT_VIEW_FACING);
+  EXPECT_EQ(c4->text, "C4_3 7.00 N");
+  EXPECT_NEAR(c4->pose.position.x, 0.01, 1e-12);                 // at the 5 N point
+  EXPECT_NEAR(c4->pose.position.y, 0.005 + 0.7 * 0.002, 1e-12);  // past its arrow's tip
+  EXPECT_DOUBLE_EQ(c4->pose.position.z, 0.05);
+  EXPECT_DOUBLE_EQ(c4->scale.z, 0.002);
+  EXPECT_FALSE(find(a, "contact_label", 0)) << "an open contact is labelled";
+
+  const Marker* j4_label = find(a, "clearance_label", 0);
+  ASSERT_TRUE(j4_label);
+  EXPECT_EQ(j4_label->text, "J4 3.50 N");
+  // Opposite the eccentricity (+x), outside the magnified ring (1e-4 * 50 = 5 mm).
+  EXPECT_NEAR(j4_label->pose.position.x, -(0.005 + 1.2 * 0.002), 1e-12);
+  const Marker* arrow = find(a, "eccentricity", 0);
+  ASSERT_TRUE(arrow);
+  EXPECT_EQ(arrow->type, Marker::ARROW);
+  EXPECT_DOUBLE_EQ(arrow->points[0].z, 0.05);
+  EXPECT_NEAR(arrow->points[1].x, 0.005, 1e-12);
+  EXPECT_DOUBLE_EQ(find(a, "clearance_limit", 0)->points[0].z, 0.05);
+  EXPECT_FALSE(find(a, "clearance_limit", 1)) << "the stand-in joint's 50 m ring is drawn";
+  EXPECT_FALSE(find(a, "clearance_label", 1));
+
+  // A journal far outside its clearance: the arrow stops at 1.5 ring radii, the
+  // label gives the eccentricity.
+  j4.ecc = 800;
+  nscd_node::buildContactMarkers({}, {j4}, style, ros::Time(), a, names);
+  EXPECT_NEAR(find(a, "eccentricity", 0)->points[1].x, 1.5 * 0.005, 1e-12);
+  EXPECT_EQ(find(a, "clearance_label", 0)->text, "J4 3.50 N (e = 800 c_r)");
+  j4.ecc = 1;
+
+  style.labels = false;
+  style.have_marker_z = false;
+  nscd_node::buildContactMarkers(contacts, {j4}, style, ros::Time(), a, names);
+  EXPECT_FALSE(find(a, "contact_label", 1));
+  EXPECT_FALSE(find(a, "clearance_label", 0));
+  EXPECT_DOUBLE_EQ(find(a, "eccentricity", 0)->points[0].z, 0.001);  // at the bearing
+}
+
+TEST(ContactMarkers, EventLabelsListedUnderTheStatusText) {
+  nscd_node::MarkerStyle style;
+  nscd_node::StatusText text;
+  text.position = nscd::Vec3(0.01, -0.02, 0.005);
+  text.height = 0.002;
+  MarkerArray a;
+  nscd_node::appendEventMarkers({{"latch released", 0.00843}, {"C7 open", 0.0098765}}, style, text,
+                                ros::Time(), a);
+  ASSERT_EQ(a.markers.size(), 2u);
+  EXPECT_EQ(a.markers[0].ns, "events");
+  EXPECT_EQ(a.markers[0].text, "latch released  t = 8.430 ms");
+  EXPECT_EQ(a.markers[1].text, "C7 open  t = 9.877 ms");
+  EXPECT_LT(a.markers[0].pose.position.y, -0.02 - 5 * 0.002);  // below the two status lines
+  EXPECT_LT(a.markers[1].pose.position.y, a.markers[0].pose.position.y - 0.002);
+}
+
+// Event definitions: a figure or a BASE*.SUFFIX group (BASE and BASE_*), > or <,
+// a number; each malformed form is refused with a message saying what is wrong.
+TEST(RunEvents, DefinitionsParseGroupsAndRefuseMalformed) {
+  const std::vector<std::string> names = {"J1.q", "C4.gap", "C4.fn", "C4_2.gap", "C4_F1.gap", "C40.gap",
+                                          "C7.gap", "probe.effort"};
+  nscd_node::EventDefinition d;
+  std::string err;
+  ASSERT_TRUE(nscd_node::parseEventDefinition("latch released: C4*.gap > 2e-5", names, d, err)) << err;
+  EXPECT_EQ(d.label, "latch released");
+  EXPECT_EQ(d.figures, (std::vector<int>{1, 3, 4}));  // not C4.fn, not C40.gap
+  EXPECT_TRUE(d.greater);
+  EXPECT_DOUBLE_EQ(d.threshold, 2e-5);
+  ASSERT_TRUE(nscd_node::parseEventDefinition("probe free:probe.effort<0.1", names, d, err)) << err;
+  EXPECT_EQ(d.figures, (std::vector<int>{7}));
+  EXPECT_FALSE(d.greater);
+  struct Bad { const char* text; const char* says; };
+  for (const Bad& b : {Bad{"C7.gap > 1e-4", "no ':'"}, Bad{": C7.gap > 1", "empty label"},
+                       Bad{"x: C7.gap = 1", "no '<' or '>'"}, Bad{"x: C7.gap > abc", "not a number"},
+                       Bad{"x: C9.gap > 1", "no key figure 'C9.gap'"}, Bad{"x: C4*gap > 1", "a group is"},
+                       Bad{"x: C4*.gap > inf", "not a number"}}) {
+    EXPECT_FALSE(nscd_node::parseEventDefinition(b.text, names, d, err)) << b.text;
+    EXPECT_NE(err.find(b.says), std::string::npos) << b.text << " -> " << err;
+    EXPECT_NE(err.find("expected \"LABEL: FIGURE > VALUE\""), std::string::npos ) << err;
+  }
 }
 
 TEST(RosConversions, ContactMessageNamesLinksAndSource) {
