@@ -1,8 +1,9 @@
 // Stage 7: energy bookkeeping. Kinetic and potential energies (reports, the
-// safeguards' measures), and the projection's correction: in a scene without
-// actuators nothing puts energy in, so potential energy the projection adds (it
-// lifts a body that drifted into a contact; the exact motion never did) is a
-// discretisation artefact, taken back from the kinetic energy.
+// safeguards' measures), and the projection's correction: the projection moves
+// positions only, so potential energy it adds (it lifts a body that drifted into
+// a contact; the exact motion never did) is a discretisation artefact, taken back
+// from the kinetic energy of the bodies whose motion is not prescribed.
+#include <algorithm>
 #include <cmath>
 
 #include "step_stages.hpp"
@@ -15,16 +16,29 @@ double bodyKineticEnergy(const Body& body, const Vec3& v, const Vec3& w) {
   return 0.5 * (body.mass * v.squaredNorm() + w.dot(body.inertia * w));
 }
 
+// Whether a body's velocity is an input: it carries a prescribed motion.
+bool prescribedBody(const Model& m, int body) {
+  for (const Actuator& ac : m.actuators) {
+    if (ac.type != ActuatorType::Prescribed) continue;
+    if (ac.body == body || (ac.joint >= 0 && m.joints[ac.joint].body_b == body)) return true;
+  }
+  return false;
+}
+
 // Takes `amount` (J) out of the kinetic energy of the state by one common
-// factor on every velocity (homogeneous velocity constraints stay satisfied);
-// all of it if there is less. Returns what was taken.
+// factor on every velocity but the prescribed bodies' (homogeneous velocity
+// constraints among them stay satisfied); all of it if there is less. Returns
+// what was taken.
 double removeKineticEnergy(const Model& m, State& s, double amount) {
-  const double k = kineticEnergyOf(m, s);
+  double k = 0;
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    if (!prescribedBody(m, static_cast<int>(i))) k += bodyKineticEnergy(m.bodies[i], s.bodies[i].v, s.bodies[i].w);
   if (!(k > 0)) return 0;
   const double f = amount < k ? std::sqrt(1 - amount / k) : 0.0;
-  for (BodyState& b : s.bodies) {
-    b.v *= f;
-    b.w *= f;
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    if (prescribedBody(m, static_cast<int>(i))) continue;
+    s.bodies[i].v *= f;
+    s.bodies[i].w *= f;
   }
   return std::min(amount, k);
 }
