@@ -269,7 +269,7 @@ static void expectPublishedTripSequence(const std::string& scene, double duratio
 }
 
 TEST(C60, TripFollowsThePublishedSequence) {
-  expectPublishedTripSequence("urdf/c60.urdf", 0.0155, 0.005, "trip");
+  expectPublishedTripSequence("urdf/c60.urdf", 0.0155, 0.004, "trip");
 }
 
 // Contact-force bench, coarse (8 ms strokes): force held at 2.0 mm within 0.6 N of the

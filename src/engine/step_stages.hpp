@@ -149,5 +149,8 @@ double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
 // a body that drifted into a contact) is taken back from the kinetic energy.
 // Returns what was taken (J).
 double takeBackProjectionEnergy(const Model& m, double potential_before, State& s);
+// Work the inputs did in the step just solved (J, >= 0): prescribed motions
+// (effort x commanded displacement) and position servos (effort x joint motion).
+double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const StepOutputs& out, const State& s);
 
 }  // namespace nscd
