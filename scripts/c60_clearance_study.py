@@ -3,6 +3,7 @@
 journals' initial positions change the breaker.
 
   c60_clearance_study.py [run] [--jobs N] [--shard i/n] [--out DIR] [--cases a,b,c]
+                         [--backend module|cli] [--scheduler ADDR | --local-cluster]
   c60_clearance_study.py report [--out DIR] [--doc docs/c60_clearance_study.md]
   c60_clearance_study.py list
 
@@ -20,6 +21,14 @@ probe arrives and at 2 mm on the bench.
 (default: every core), each case's figures into OUT/study_CASE.json; `report`
 collects every JSON there into the markdown table and box plots. Without a
 command: run, then report. Progress on standard error.
+
+Backends: `module` (default when the Python module is built): the runs go through
+`nscd_sim.study.run_study` in worker processes, or to a Dask cluster with
+`--scheduler tcp://HOST:8786` (its workers need this repository's scripts/ on
+PYTHONPATH, the built module, and OUT on a shared file system) or
+`--local-cluster` (a Dask LocalCluster of --jobs workers on this machine); `cli`:
+each run is an `nscd_run` process, --jobs at a time. The figures are the same
+either way, up to the CSV's 12 significant digits that the cli backend reads back.
 """
 import argparse
 import concurrent.futures as cf
@@ -92,38 +101,118 @@ def run_one(exe, scene, duration, command, csv, every):
     return json.loads(r.stdout.strip().splitlines()[-1])
 
 
-def run_case(case, out, exe, table):
-    name, group, label, kw = case
-    t0 = time.time()
-    res = {'case': name, 'group': group, 'label': label, 'scene_args': kw}
+RUN_KEYS = ('steps', 'wall_s', 'iters_mean', 'iters_max', 'unconverged_steps', 'frictionless_fallbacks',
+            'max_penetration', 'energy_initial', 'energy_final')
+
+
+def trip_figures(d):
+    """The trip's figures and the polarisation at t = 0 and at rest before the touch."""
+    fig = c60_trip_figures.figures(d)
+    t = d['t']
+    touch = 1e-3 * fig['touch_ms'] if fig.get('touch_ms') else c60_trip_figures.T_PROBE
+    # Integrity: the first time a journal stands outside its bearing (e/c_r > 1.1:
+    # the joint came apart; the projection then snaps it back, adding energy).
+    ecc = np.max(np.vstack([d[j + '.ecc'] for j in c60_plot.JOINTS if j + '.ecc' in d.dtype.names] +
+                           [np.zeros(len(t))]), axis=0)
+    broken = np.nonzero(ecc > 1.1)[0]
+    fig['joint_apart_ms'] = 1e3 * float(t[broken[0]]) if len(broken) else None
+    return {'trip': fig, 'polarisation_initial': polarisation(d, 0),
+            'polarisation_rest': polarisation(d, int(np.nonzero(t < touch)[0][-1]))}
+
+
+def bench_figures(d):
+    b = c60_plot.bench(d, None)
+    i_eq = int(np.argmin(np.abs(d['t'] - (0.030 - 1e-3))))  # end of the hold at 2 mm
+    return {'bench': {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')},
+            'polarisation_2mm': polarisation(d, i_eq)}
+
+
+def write_scenes(case, out):
+    name, _, _, kw = case
+    paths = {}
     for kind in ('trip', 'bench'):
-        scene = os.path.join(out, 'study_%s_%s.urdf' % (name, kind))
-        with open(scene, 'w') as f:
+        paths[kind] = os.path.join(out, 'study_%s_%s.urdf' % (name, kind))
+        with open(paths[kind], 'w') as f:
             f.write(c60_scene.build(bench=kind == 'bench', **kw))
-        csv = os.path.join(out, 'study_%s_%s.csv' % (name, kind))
+    return paths
+
+
+def case_header(case):
+    name, group, label, kw = case
+    return {'case': name, 'group': group, 'label': label, 'scene_args': kw}
+
+
+def run_case(case, out, exe, table):
+    """The cli backend: one case, its trip and bench as nscd_run processes."""
+    t0 = time.time()
+    res = case_header(case)
+    scenes = write_scenes(case, out)
+    for kind in ('trip', 'bench'):
+        csv = os.path.join(out, 'study_%s_%s.csv' % (case[0], kind))
         if kind == 'trip':
-            run = run_one(exe, scene, TRIP_DURATION, PROBE, csv, 1)
-            d = c60_plot.load(csv)
-            fig = c60_trip_figures.figures(d)
-            t = d['t']
-            touch = 1e-3 * fig['touch_ms'] if fig.get('touch_ms') else c60_trip_figures.T_PROBE
-            res['trip'] = fig
-            res['polarisation_initial'] = polarisation(d, 0)
-            res['polarisation_rest'] = polarisation(d, int(np.nonzero(t < touch)[0][-1]))
+            run = run_one(exe, scenes[kind], TRIP_DURATION, PROBE, csv, 1)
+            res.update(trip_figures(c60_plot.load(csv)))
         else:
-            run = run_one(exe, scene, BENCH_DURATION, table, csv, 5)
-            d = c60_plot.load(csv)
-            b = c60_plot.bench(d, None)
-            res['bench'] = {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')}
-            i_eq = int(np.argmin(np.abs(d['t'] - (0.030 - 1e-3))))  # end of the hold at 2 mm
-            res['polarisation_2mm'] = polarisation(d, i_eq)
-        res[kind + '_run'] = {k: run[k] for k in ('steps', 'wall_s', 'iters_mean', 'iters_max', 'unconverged_steps',
-                                                  'frictionless_fallbacks', 'max_penetration')}
+            run = run_one(exe, scenes[kind], BENCH_DURATION, table, csv, 1)
+            res.update(bench_figures(c60_plot.load(csv)))
+        res[kind + '_run'] = {k: run[k] for k in RUN_KEYS}
         os.remove(csv)
     res['wall_s'] = time.time() - t0
-    with open(os.path.join(out, 'study_%s.json' % name), 'w') as f:
+    with open(os.path.join(out, 'study_%s.json' % case[0]), 'w') as f:
         json.dump(res, f, indent=1)
     return res
+
+
+def module_extract(record, sim):
+    """The module backend's extract(): a run's figures and statistics, in a worker."""
+    stats = record['converged']
+    run = {'steps': int(sim.steps), 'iters_mean': float(np.mean(record['iters'][1:])),
+           'iters_max': int(np.max(record['iters'])), 'unconverged_steps': int(np.sum(~stats[1:].astype(bool))),
+           'frictionless_fallbacks': int(np.sum(record['frictionless_fallback'])),
+           'max_penetration': float(np.max(record['max_penetration']))}
+    energy = record['energy_kinetic'] + record['energy_gravity'] + record['energy_springs']
+    run.update(energy_initial=float(energy[0]), energy_final=float(energy[-1]))
+    figs = bench_figures(record) if 'table.cmd' in record.dtype.names else trip_figures(record)
+    return figs, run
+
+
+def run_module(cases, a):
+    """The module backend: every trip and bench as nscd_sim.study Cases."""
+    from nscd_sim import study
+    jobs = []
+    for c in cases:
+        scenes = write_scenes(c, a.out)
+        jobs.append(study.Case(scenes['trip'], TRIP_DURATION, commands=PROBE, every=1, label=c[0] + ' trip'))
+        jobs.append(study.Case(scenes['bench'], BENCH_DURATION, commands=table_command(), every=1,
+                               label=c[0] + ' bench'))
+    scheduler = a.scheduler
+    cluster = None
+    if a.local_cluster:
+        import distributed
+        os.environ['PYTHONPATH'] = HERE + os.pathsep + os.environ.get('PYTHONPATH', '')  # for the workers
+        cluster = distributed.LocalCluster(n_workers=a.jobs, threads_per_worker=1, dashboard_address=None)
+        scheduler = cluster
+    try:
+        results = study.run_study(jobs, module_extract, workers=a.jobs, scheduler=scheduler, keep_going=True)
+    finally:
+        if cluster is not None:
+            cluster.close()
+    failed = []
+    for k, c in enumerate(cases):
+        res = case_header(c)
+        for kind, r in (('trip', results[2 * k]), ('bench', results[2 * k + 1])):
+            if r.error:
+                failed.append('%s %s: %s' % (c[0], kind, r.error))
+                break
+            figs, run = r.value
+            run['wall_s'] = r.wall_s
+            res.update(figs)
+            res[kind + '_run'] = run
+        else:
+            res['wall_s'] = results[2 * k].wall_s + results[2 * k + 1].wall_s
+            with open(os.path.join(a.out, 'study_%s.json' % c[0]), 'w') as f:
+                json.dump(res, f, indent=1)
+    return failed
 
 
 def do_run(a):
@@ -138,22 +227,29 @@ def do_run(a):
             sys.exit('unknown case(s): %s (see: c60_clearance_study.py list)' % ', '.join(sorted(unknown)))
         cases = [c for c in cases if c[0] in want]
     os.makedirs(a.out, exist_ok=True)
-    exe, table = nscd_run(), table_command()
     t0 = time.time()
     failed = []
-    with cf.ThreadPoolExecutor(max_workers=a.jobs) as pool:  # each worker waits on an nscd_run process
-        futs = {pool.submit(run_case, c, a.out, exe, table): c[0] for c in cases}
-        for k, fut in enumerate(cf.as_completed(futs), 1):
-            try:
-                r = fut.result()
-                print('[%d/%d] %s: %.0f s (%.0f s elapsed)' % (k, len(cases), futs[fut], r['wall_s'], time.time() - t0),
-                      file=sys.stderr, flush=True)
-            except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
-                failed.append(futs[fut])
-                print('[%d/%d] %s FAILED: %s' % (k, len(cases), futs[fut], e), file=sys.stderr, flush=True)
+    if a.backend == 'module':
+        print('study: %d cases (%d runs) through nscd_sim.study on %s' % (
+            len(cases), 2 * len(cases), a.scheduler or ('a LocalCluster of %d workers' % a.jobs if a.local_cluster
+                                                        else '%d processes' % a.jobs)), file=sys.stderr, flush=True)
+        failed = run_module(cases, a)
+    else:
+        exe, table = nscd_run(), table_command()
+        with cf.ThreadPoolExecutor(max_workers=a.jobs) as pool:  # each worker waits on an nscd_run process
+            futs = {pool.submit(run_case, c, a.out, exe, table): c[0] for c in cases}
+            for k, fut in enumerate(cf.as_completed(futs), 1):
+                try:
+                    r = fut.result()
+                    print('[%d/%d] %s: %.0f s (%.0f s elapsed)' % (k, len(cases), futs[fut], r['wall_s'],
+                                                                 time.time() - t0), file=sys.stderr, flush=True)
+                except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
+                    failed.append(futs[fut])
+                    print('[%d/%d] %s FAILED: %s' % (k, len(cases), futs[fut], e), file=sys.stderr, flush=True)
     wall = time.time() - t0
     with open(os.path.join(a.out, 'study_wall_shard%d_of_%d.json' % (i, n)), 'w') as f:
-        json.dump({'wall_s': wall, 'jobs': a.jobs, 'cases': len(cases), 'failed': failed}, f)
+        json.dump({'wall_s': wall, 'jobs': a.jobs, 'cases': len(cases), 'failed': failed, 'backend': a.backend,
+                   'where': a.scheduler or ('LocalCluster' if a.local_cluster else 'local')}, f)
     print('study shard %d/%d: %d cases on %d workers in %.0f s%s' % (
         i, n, len(cases), a.jobs, wall, '' if not failed else '; FAILED: ' + ', '.join(failed)), file=sys.stderr)
     return 1 if failed else 0
@@ -180,7 +276,8 @@ FIGS = [('bench force at 2 mm [N]', lambda r: r['bench']['equilibrium_force_N'],
         ('trip force 0.1-ms peak [N]', lambda r: r['trip'].get('force_peak_0p1ms_N'), '%.2f'),
         ('touch [ms]', lambda r: r['trip'].get('touch_ms'), '%.2f'),
         ('latch release [ms]', lambda r: r['trip'].get('release_ms'), '%.2f'),
-        ('C7 opens [ms]', lambda r: r['trip'].get('c7_open_ms'), '%.2f')]
+        ('C7 opens [ms]', lambda r: r['trip'].get('c7_open_ms'), '%.2f'),
+        ('a joint comes apart [ms]', lambda r: r['trip'].get('joint_apart_ms'), '%.2f')]
 
 
 def pol_cell(p):
@@ -273,14 +370,19 @@ def report(a):
         png = os.path.join(os.path.dirname(a.doc), 'images', 'c60_clearance_study.png')
         box_plots(seeds, nominal, png)
         L += ['', '![box plots of the 20 random-start runs](images/c60_clearance_study.png)', '']
-    L += ['## Runs', '', '| case | trip: steps, iterations mean / max, unconverged, fallbacks | bench: the same | wall trip + bench [s] |',
-          '|---|---|---|---|']
+    L += ['## Runs', '',
+          'Per run: steps, solver iterations mean / max, unconverged steps, frictionless fallbacks,',
+          'largest penetration, energy (kinetic + springs) at the start and the end. The trip\'s',
+          'end energy is below its start (the probe and the handle servo do little work; the',
+          'impacts after the release dissipate).', '',
+          '| case | trip | bench | wall trip + bench [s] |', '|---|---|---|---|']
     for c in CASES:
         if c[0] not in res:
             continue
         r = res[c[0]]
-        cell = lambda q: '%d, %.1f / %d, %d, %d' % (q['steps'], q['iters_mean'], q['iters_max'],  # noqa: E731
-                                                    q['unconverged_steps'], q['frictionless_fallbacks'])
+        cell = lambda q: '%d, %.1f / %d, %d, %d, %.1e m, %.3f -> %.3f J' % (  # noqa: E731
+            q['steps'], q['iters_mean'], q['iters_max'], q['unconverged_steps'], q['frictionless_fallbacks'],
+            q['max_penetration'], q.get('energy_initial', float('nan')), q.get('energy_final', float('nan')))
         L.append('| %s | %s | %s | %.0f |' % (c[0], cell(r['trip_run']), cell(r['bench_run']), r['wall_s']))
     text = '\n'.join(L) + '\n'
     with open(a.doc, 'w') as f:
@@ -290,8 +392,9 @@ def report(a):
 
 def box_plots(seeds, nominal, png):
     plt = c60_plot.plt_module()
-    fig, ax = plt.subplots(1, len(FIGS), figsize=(2.0 * len(FIGS), 3.6))
-    for k, (name, fn, _) in enumerate(FIGS):
+    figs = [f for f in FIGS if not f[0].startswith('a joint')]
+    fig, ax = plt.subplots(1, len(figs), figsize=(2.0 * len(figs), 3.6))
+    for k, (name, fn, _) in enumerate(figs):
         v = [fn(r) for r in seeds if fn(r) is not None]
         ax[k].boxplot(v, widths=0.5)
         ax[k].plot(np.random.default_rng(k).normal(1, 0.04, len(v)), v, '.', color='C0', alpha=0.6)
@@ -315,9 +418,21 @@ def main():
     ap.add_argument('--cases', help='comma-separated case names (default: all of the shard)')
     ap.add_argument('--out', default=os.path.join(REPO, 'out', 'clearance_study'))
     ap.add_argument('--doc', default=os.path.join(REPO, 'docs', 'c60_clearance_study.md'))
+    ap.add_argument('--backend', choices=['module', 'cli'], default=None,
+                    help='module (nscd_sim.study; default when the module imports) or cli (nscd_run)')
+    ap.add_argument('--scheduler', help='module backend: a Dask scheduler address (tcp://HOST:8786)')
+    ap.add_argument('--local-cluster', action='store_true', help='module backend: a Dask LocalCluster of --jobs workers')
     a = ap.parse_args()
     if a.jobs < 1:
         sys.exit('--jobs must be >= 1')
+    if a.backend is None:
+        try:
+            import nscd_sim  # noqa: F401
+            a.backend = 'module'
+        except ImportError:
+            a.backend = 'cli'
+    if a.backend == 'cli' and (a.scheduler or a.local_cluster):
+        sys.exit('--scheduler and --local-cluster need the module backend')
     if a.command == 'list':
         for k, c in enumerate(CASES):
             print('%2d %-8s (%s) %s  %s' % (k, c[0], c[1], c[2], c[3]))

@@ -66,28 +66,25 @@ since the solver changes of 2026-11-25 (docs/performance.md, "Hyperstatic sets")
   clearance) and 130 unconverged steps.
 - **x0.2 (9-17 um; S3 1.2 um)** runs without penetration (1 nm) with the CAD contacts; its
   bench force still moves during the hold, so its "hysteresis" stays marked as noise.
-- **The order of events.** The published order (touch, then the tooth corner takes the
-  load, then release, then C7 opens) holds at clearances x0.2, x0.5, x1 and friction x1.5.
-  At clearances x2 and friction x0.5 the corner takes the load already while the
-  mechanism settles (0.5 / 0.4 ms), before the probe arrives: the friction on the seat F4
-  does not hold the bar through the settling in these two cases (not analysed further).
-  The latch then rests on the corner and still releases after the touch.
-- **Clearance and the trip.** Larger clearances delay the touch, the release and the
-  opening (the settling turns the bar further from the probe) and barely change the
-  tripping force.
+- **The order of events.** With the engine of 2026-11-25 evening (projection energy,
+  docs/c60.md engine issue 4) the published order (touch, then the tooth corner takes
+  the load, then release, then C7 opens) holds in every case of the table. (Before it,
+  at clearances x2 and friction x0.5 the corner took the load during the settling.)
+- **Clearance and the trip.** Larger clearances delay the touch and the release (the
+  settling turns the bar further from the probe) and barely change the quasi-static
+  tripping force; the 0.1-ms peak is the first-contact impact and varies more.
 - **Friction and the trip.** The tripping force grows with friction (the probe works
-  against the friction on the seat F4 and at the tooth corner, mu 0.2 there): peak 1.20 /
-  2.47 / 3.62 N at friction x0.5 / x1 / x1.5.
-- **Ideal joints (x0).** The same order of events, earlier (touch 2.48 ms, release
-  5.96 ms): nothing settles into a clearance. The bench hysteresis vanishes (-0.002 N):
-  with frictionless ideal joints nothing dissipates in the joints, which is the paper's
-  point about joint friction. C7 has no opening time in the table because the moving
-  contact comes back onto the fixed contact before 20.7 ms (the definition below: leaves
-  it for good).
-- **Solver dependence.** With the solver of 2026-11-25 the bench at x0.2 and x0.5 moved
-  from 15.34 / 15.24 N to 15.60 / 15.47 N and the nominal trip peak from 2.15 to 2.47 N:
-  the latched state is hyperstatic with friction, so the solver picks one of many
-  equilibria (see the x0.5 note below).
+  against the friction on the seat F4 and at the tooth corner, mu 0.2 there); the
+  hysteresis is proportional to it.
+- **Ideal joints (x0).** The same order of events, earlier: nothing settles into a
+  clearance. The bench hysteresis vanishes: with frictionless ideal joints nothing
+  dissipates in the joints, which is the paper's point about joint friction.
+- **C7 opens is not a result** (docs/c60.md, engine issue 6): a clearance joint comes
+  apart as C7 opens; the ideal model reaches 0.11 mm of penetration after the release.
+- **Solver and engine dependence.** The latched state is hyperstatic with friction, so
+  the equilibrium the run picks (bench force, where the bar settles, hence the touch)
+  moves with solver and energy-bookkeeping changes: the x0.5 bench read 15.24, 15.47 and
+  now 15.51 N with three engine versions.
 - **x0.5** bench: with the earlier contacts, engine builds that differed only in round-off
   gave 15.28-15.79 N (a hyperstatic latched state with friction; see docs/c60.md).
 
