@@ -314,23 +314,17 @@ def report(a):
         L.append('| %s | %s | %d / %d | %.2g |' % (
             c[2], ' | '.join(fmt(f[1](r), f[2]) for f in FIGS), r['trip_run']['unconverged_steps'],
             r['bench_run']['unconverged_steps'], max(r['trip_run']['max_penetration'], r['bench_run']['max_penetration'])))
-    L += ['', 'Axial play x1 is the nominal row.', '',
-          '### Polarisation at rest before the probe arrives (e/c_r @ direction, world) and tilt', '',
-          '| case | ' + ' | '.join(c60_plot.JOINTS) + ' |', '|---|' + '---|' * len(c60_plot.JOINTS)]
-    for c in CASES:
-        if c[1] == 'c' or c[0] not in res:
-            continue
-        p = res[c[0]]['polarisation_rest']
-        L.append('| %s | %s |' % (c[2], ' | '.join(
-            (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
-    L += ['', '### Polarisation at 2 mm on the bench', '',
-          '| case | ' + ' | '.join(c60_plot.JOINTS) + ' |', '|---|' + '---|' * len(c60_plot.JOINTS)]
-    for c in CASES:
-        if c[1] == 'c' or c[0] not in res:
-            continue
-        p = res[c[0]]['polarisation_2mm']
-        L.append('| %s | %s |' % (c[2], ' | '.join(
-            (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
+    L += ['', 'Axial play x1 is the nominal row.']
+    for key, title in (('polarisation_rest', 'Polarisation at rest before the probe arrives'),
+                       ('polarisation_2mm', 'Polarisation at 2 mm on the bench')):
+        L += ['', '### %s (e/c_r @ direction, world; tilt of the journal)' % title, '',
+              '| case | ' + ' | '.join(c60_plot.JOINTS) + ' |', '|---|' + '---|' * len(c60_plot.JOINTS)]
+        for c in CASES:
+            if c[1] == 'c' or c[0] not in res:
+                continue
+            p = res[c[0]][key]
+            L.append('| %s | %s |' % (c[2], ' | '.join(
+                (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
     seeds = [res[c[0]] for c in CASES if c[1] == 'c' and c[0] in res]
     if seeds:
         L += ['', '## (c) journals starting at random inside their clearances (%d runs)' % len(seeds), '',
