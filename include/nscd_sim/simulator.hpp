@@ -71,8 +71,8 @@ struct StepStats {
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
   bool energy_capped = false;   // still unsolved: impulses scaled so they add no kinetic energy
-  // Potential energy the projection added, taken back from the kinetic energy
-  // (J; scenes without actuators only; see Simulator::step).
+  // Potential energy the projection added beyond the inputs' work in the step,
+  // taken back from the kinetic energy (J; see Simulator::step).
   double projection_energy_removed = 0;
   // The iteration matrix M - h theta C - h^2 theta^2 K was not positive definite:
   // the step used M^-1 (springs and PD actuators explicit).

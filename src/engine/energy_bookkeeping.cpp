@@ -18,27 +18,18 @@ double bodyKineticEnergy(const Body& body, const Vec3& v, const Vec3& w) {
   return 0.5 * (body.mass * v.squaredNorm() + w.dot(body.inertia * w));
 }
 
-// Whether a body's velocity is an input: it carries a prescribed motion.
-bool prescribedBody(const Model& m, int body) {
-  for (const Actuator& ac : m.actuators) {
-    if (ac.type != ActuatorType::Prescribed) continue;
-    if (ac.body == body || (ac.joint >= 0 && m.joints[ac.joint].body_b == body)) return true;
-  }
-  return false;
-}
-
 // Takes `amount` (J) out of the kinetic energy of the state by one common
 // factor on every velocity but the prescribed bodies' (homogeneous velocity
 // constraints among them stay satisfied); all of it if there is less. Returns
 // what was taken.
-double removeKineticEnergy(const Model& m, State& s, double amount) {
+double removeKineticEnergy(const Model& m, const std::vector<char>& prescribed, State& s, double amount) {
   double k = 0;
   for (size_t i = 0; i < m.bodies.size(); ++i)
-    if (!prescribedBody(m, static_cast<int>(i))) k += bodyKineticEnergy(m.bodies[i], s.bodies[i].v, s.bodies[i].w);
+    if (!prescribed[i]) k += bodyKineticEnergy(m.bodies[i], s.bodies[i].v, s.bodies[i].w);
   if (!(k > 0)) return 0;
   const double f = amount < k ? std::sqrt(1 - amount / k) : 0.0;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
-    if (prescribedBody(m, static_cast<int>(i))) continue;
+    if (prescribed[i]) continue;
     s.bodies[i].v *= f;
     s.bodies[i].w *= f;
   }
@@ -89,9 +80,9 @@ double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const 
   return std::max(0.0, work);
 }
 
-double takeBackProjectionEnergy(const Model& m, double potential_before, State& s) {
+double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, State& s) {
   const double gain = potentialEnergyOf(m, s).total() - potential_before;
-  return gain > 0 ? removeKineticEnergy(m, s, gain) : 0.0;
+  return gain > 0 ? removeKineticEnergy(m, ws.facts.prescribed_body, s, gain) : 0.0;
 }
 
 }  // namespace nscd

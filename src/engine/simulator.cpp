@@ -139,7 +139,7 @@ StepStatus Simulator::step() {
     st.projection_passes = projectPositions(m, state_, ws, set.projection_max_iterations,
                                             set.projection_tolerance, violation, st);
     if (st.projection_passes > 0)
-      st.projection_energy_removed = takeBackProjectionEnergy(m, pe_before + input_work, state_);
+      st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before + input_work, state_);
     st.max_penetration = 0;  // of the rows of the last pass
     for (const ConstraintBlock& blk : ws.blocks)
       if (blk.kind != BlockKind::Bilateral)

@@ -145,10 +145,10 @@ EnergyReport potentialEnergyOf(const Model& m, const State& s);
 double kineticEnergyOf(const Model& m, const State& s);
 // Kinetic energy of a generalized velocity (linear world, angular body frame).
 double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
-// In a scene without actuators, potential energy the projection added (it lifted
-// a body that drifted into a contact) is taken back from the kinetic energy.
-// Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, double potential_before, State& s);
+// Potential energy the projection added beyond potential_before (the energy before
+// it plus the inputs' work in the step) is taken back from the kinetic energy of
+// the bodies whose motion is not prescribed. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement) and position servos (effort x joint motion).
 double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const StepOutputs& out, const State& s);

@@ -48,7 +48,12 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   f.contact_slot_base_clearance = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair;
   f.stiff = hasStiffElements(m);
   f.planar = m.settings.planar == PlanarMode::XY;
-  f.no_input = m.actuators.empty();
+  f.prescribed_body.assign(m.bodies.size(), 0);
+  for (const Actuator& ac : m.actuators) {
+    if (ac.type != ActuatorType::Prescribed) continue;
+    const int body = ac.joint >= 0 ? m.joints[ac.joint].body_b : ac.body;
+    if (body >= 0) f.prescribed_body[body] = 1;
+  }
   ws.max_rows = f.bilateral_rows + 3 * f.contact_slots;
   const int mr = std::max(ws.max_rows, 1);
   ws.F = Eigen::VectorXd::Zero(n);

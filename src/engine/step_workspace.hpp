@@ -66,7 +66,9 @@ struct ModelFacts {
   int bilateral_rows = 0;
   bool stiff = false;    // springs or PD actuators: an iteration matrix, coupled bodies
   bool planar = false;   // x-y plane motions only
-  bool no_input = true;  // no actuators: nothing can put energy in
+  // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
+  // velocity alone.
+  std::vector<char> prescribed_body;
 };
 
 class StepWorkspace {
