@@ -65,6 +65,15 @@ def table(res):
     return '\n'.join(lines)
 
 
+def decorate(ax, xlabel, ylabel, title, **legend):
+    """A panel's labels, title, grid and legend (legend: matplotlib legend keywords)."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(**legend)
+
+
 def plots(data, res, outdir, figure=None):
     plt = P.plt_module()
     cols = ['C0', 'C3', 'C2', 'C1']
@@ -80,11 +89,9 @@ def plots(data, res, outdir, figure=None):
                 ax.axvline(r['release_travel_mm'], color=c, lw=0.6, ls=':')
         ax.set_xlim(min(r['touch_travel_mm'] or 0 for r in res.values()) - 0.1,
                     max(r['release_travel_mm'] or 0 for r in res.values()) + 0.4)
-        ax.set_xlabel('probe travel [mm]')
-        ax.set_ylabel('tripping force (probe) [N]')
-        ax.set_title('tripping force vs probe travel\n(o 0.1-ms peak; dotted: latch release)', fontsize=9)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        decorate(ax, 'probe travel [mm]', 'tripping force (probe) [N]',
+                 'tripping force vs probe travel\n(o 0.1-ms peak; dotted: latch release)',
+                 fontsize=8)
 
     def latch(ax):
         for c, (l, d) in zip(cols, data.items()):
@@ -95,11 +102,9 @@ def plots(data, res, outdir, figure=None):
                 ax.axvline(res[l]['release_ms'], color=c, lw=0.6, ls=':')
         ax.set_xlim(0, max(r['release_ms'] or 0 for r in res.values()) + 1.5)
         ax.set_ylim(0, 15)
-        ax.set_xlabel('time [ms]')
-        ax.set_ylabel('latch force [N] (cut at 15 N)')
-        ax.set_title('latch: the seat, then the corner, then the release (dotted)', fontsize=9)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        decorate(ax, 'time [ms]', 'latch force [N] (cut at 15 N)',
+                 'latch: the seat, then the corner, then the release (dotted)',
+                 fontsize=7)
 
     def c7(ax):
         for c, (l, d) in zip(cols, data.items()):
@@ -109,11 +114,9 @@ def plots(data, res, outdir, figure=None):
                 ax.axvline(res[l]['touch_ms'], color=c, lw=0.6, ls=':')
         ax.set_xlim(0, max(r['c7_open_ms'] or 0 for r in res.values()) + 0.5)
         ax.set_ylim(0, 30)
-        ax.set_xlabel('time [ms] (dotted: the touch)')
-        ax.set_ylabel('C7 force [N]')
-        ax.set_title('main contact C7: force before the touch and at the opening', fontsize=9)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc='lower left')
+        decorate(ax, 'time [ms] (dotted: the touch)', 'C7 force [N]',
+                 'main contact C7: force before the touch and at the opening',
+                 fontsize=8, loc='lower left')
 
     def stroke(ax):
         for c, (l, d) in zip(cols, data.items()):
@@ -121,11 +124,9 @@ def plots(data, res, outdir, figure=None):
             ax.plot(t, 1e3 * d['C7.gap'], c, lw=0.9, label='%s: C7 gap' % l)
             for n, te in res[l]['events']:
                 ax.plot([te], [0], '|', color=c, ms=10)
-        ax.set_xlabel('time [ms]')
-        ax.set_ylabel('C7 gap (stroke of the moving contact) [mm]')
-        ax.set_title('stroke; ticks: the events (touch, corner, release, opening, ...)', fontsize=9)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        decorate(ax, 'time [ms]', 'C7 gap (stroke of the moving contact) [mm]',
+                 'stroke; ticks: the events (touch, corner, release, opening, ...)',
+                 fontsize=8)
 
     panels = [('force', force_travel), ('latch', latch), ('c7_force', c7), ('stroke', stroke)]
     for name, fn in panels:
