@@ -6,17 +6,7 @@
 # stops everything it started.
 # Usage: ros_tools_smoke.sh OUT_DIR   (NSCD_WS: the built workspace)
 set -uo pipefail
-export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-repo=$(cd "$here/../.." && pwd)
-out=${1:-$(mktemp -d)}
-mkdir -p "$out"
-ws=${NSCD_WS:-$repo/.build/ws}
-set +u; source "$ws/devel/setup.bash"; set -u
-export ROS_HOME=$out/ros_home
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$port ROS_IP=127.0.0.1
-unset ROS_HOSTNAME
+source "$(dirname "${BASH_SOURCE[0]}")/private_master_env.sh" "$@"
 
 fail=0
 check() {  # NAME COMMAND...: runs it (20 s at most), fails on non-zero exit or a warning we know

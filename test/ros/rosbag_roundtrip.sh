@@ -7,18 +7,7 @@
 # arrive, equal to the recorded ones. Own master on a free port; stops what it starts.
 # Usage: rosbag_roundtrip.sh [OUT_DIR]   (NSCD_WS: the built workspace)
 set -uo pipefail
-export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
-here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-repo=$(cd "$here/../.." && pwd)
-out=${1:-$(mktemp -d)}
-mkdir -p "$out"
-ws=${NSCD_WS:-$repo/.build/ws}
-[ -f "$ws/devel/setup.bash" ] || { echo "FAIL: no workspace $ws (run scripts/build.sh)"; exit 1; }
-set +u; source "$ws/devel/setup.bash"; set -u
-export ROS_HOME=$out/ros_home
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$port ROS_IP=127.0.0.1
-unset ROS_HOSTNAME
+source "$(dirname "${BASH_SOURCE[0]}")/private_master_env.sh" "$@"
 bag=$out/c60_trip.bag
 rm -f "$bag" "$bag.active"
 
