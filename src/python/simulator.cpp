@@ -502,6 +502,14 @@ class PySimulator {
   size_t csvFieldCount() const { return csv_fields_; }
 };
 
+// The names of a model's elements (clearance joints, contacts, springs, actuators).
+template <class Element>
+std::vector<std::string> namesOf(const std::vector<Element>& elements) {
+  std::vector<std::string> names;
+  for (const Element& e : elements) names.push_back(e.name);
+  return names;
+}
+
 }  // namespace
 
 void bindSimulator(py::module_& m) {
@@ -578,26 +586,10 @@ void bindSimulator(py::module_& m) {
           if (j.type != nscd::JointType::Fixed) n.push_back(j.name);
         return n;
       }, "joints that are not fixed")
-      .def_property_readonly("clearance_joint_names", [](PySimulator& s) {
-        std::vector<std::string> n;
-        for (const nscd::ClearanceJoint& c : s.model().clearance_joints) n.push_back(c.name);
-        return n;
-      })
-      .def_property_readonly("contact_names", [](PySimulator& s) {
-        std::vector<std::string> n;
-        for (const nscd::ContactPair& c : s.model().contacts) n.push_back(c.name);
-        return n;
-      })
-      .def_property_readonly("spring_names", [](PySimulator& s) {
-        std::vector<std::string> n;
-        for (const nscd::Spring& c : s.model().springs) n.push_back(c.name);
-        return n;
-      })
-      .def_property_readonly("actuator_names", [](PySimulator& s) {
-        std::vector<std::string> n;
-        for (const nscd::Actuator& c : s.model().actuators) n.push_back(c.name);
-        return n;
-      });
+      .def_property_readonly("clearance_joint_names", [](PySimulator& s) { return namesOf(s.model().clearance_joints); })
+      .def_property_readonly("contact_names", [](PySimulator& s) { return namesOf(s.model().contacts); })
+      .def_property_readonly("spring_names", [](PySimulator& s) { return namesOf(s.model().springs); })
+      .def_property_readonly("actuator_names", [](PySimulator& s) { return namesOf(s.model().actuators); });
 }
 
 }  // namespace nscd_python
