@@ -67,6 +67,12 @@ Shape cylinderArc(double r, double len, double start, double span) {
   s.span = span;
   return s;
 }
+// The same with the material outside the surface (a bore, a concave guide).
+Shape hollowArc(double r, double len, double start = 0, double span = 2 * kPi) {
+  Shape s = cylinderArc(r, len, start, span);
+  s.hollow = true;
+  return s;
+}
 
 Pose at(const Vec3& p, const Quat& q = Quat::Identity()) { return Pose{p, q}; }
 Quat rotAbout(const Vec3& axis, double angle) {
@@ -903,8 +909,8 @@ TEST(ContactGeometry, RingPlaneArcSpanLimits) {
 TEST(ContactGeometry, RingFaceAgainstBruteForce) {
   std::mt19937_64 rng(102);
   ContactPoint out[kMaxPointsPerPair];
-  int inside = 0, outside = 0;
-  for (int it = 0; it < 600; ++it) {
+  int inside = 0, outside = 0, behind_count = 0;
+  for (int it = 0; it < 1200; ++it) {
     const double r = uni(rng, 0.3e-3, 3e-3);
     const Shape s = randomRing(rng, r);
     const double sx = uni(rng, 0.5e-3, 6e-3), sy = uni(rng, 0.5e-3, 6e-3);
@@ -932,21 +938,55 @@ TEST(ContactGeometry, RingFaceAgainstBruteForce) {
     const ContactPoint* near = nullptr;
     for (int i = 0; i < n; ++i)
       if ((out[i].point_a - deepest).norm() <= r * dt + 1e-12) near = &out[i];
-    if (out_by < -1e-6) {
+    // Below the face by more than its nearest edge is far (-out_by): behind it.
+    const bool behind = -brute > -out_by + 1e-6;
+    if (out_by < -1e-6 && -brute < -out_by - 1e-6) {
       ++inside;
       ASSERT_TRUE(near) << "it " << it;
       EXPECT_NEAR(near->gap, brute, r * dt * dt / 8 + 1e-15);
-    } else if (out_by > 1e-6) {
+    } else if (out_by > 1e-6 || behind) {
       ++outside;
+      behind_count += behind && out_by < 0;
       EXPECT_FALSE(near) << "it " << it;
     }
   }
-  EXPECT_GT(inside, 150);
+  EXPECT_GT(behind_count, 100);
+  EXPECT_GT(inside, 100);
   EXPECT_GT(outside, 150);
 }
 
 // The edge rule: the foot of the deepest point exactly on an edge or corner
 // counts as on the face (closed rectangle); 1e-12 m beyond, no point.
+// The nearest-feature rule of bounded patches: a point deeper below a face, or
+// inside a cylinder patch, than the patch's nearest side is far came in from
+// the side (behind the patch) and gives no point; shallower, it does.
+TEST(ContactGeometry, PatchesDropPointsFromBehind) {
+  ContactPoint out[kMaxPointsPerPair];
+  const Quat vertical = rotAbout(Vec3::UnitX(), kPi / 2);  // deepest point straight below the centre
+  const double r = 0.5;
+  // Face 2 x 4: the ring's lowest point 0.3 below it, 0.2 / 0.4 from the x edge.
+  EXPECT_EQ(run(ring(r), at(Vec3(0.8, 0, r - 0.3), vertical), face(2, 4), Pose{}, 1.0, out), 0);
+  ASSERT_EQ(run(ring(r), at(Vec3(0.6, 0, r - 0.3), vertical), face(2, 4), Pose{}, 1.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -0.3, kTol);
+  // Deep by exactly the distance to the edge: kept (the rule is strict).
+  EXPECT_EQ(run(ring(r), at(Vec3(0.75, 0, r - 0.25), vertical), face(2, 4), Pose{}, 1.0, out), 1);
+  // Cylinder R 2 along z; the ring (in xy, r 0.5) centred at x = 2.2: its
+  // nearest point (1.7, 0, 0) is 0.3 inside, 1.7 from the axis.
+  const Shape rg = ring(r);
+  const Pose c(at(Vec3(2.2, 0, 0)));
+  EXPECT_EQ(run(rg, c, cylinderArc(2, 1, -0.1, 0.2), Pose{}, 1.0, out), 0);  // 1.7 sin 0.1 = 0.17 from its side
+  ASSERT_EQ(run(rg, c, cylinderArc(2, 1, -0.3, 0.6), Pose{}, 1.0, out), 1);  // 1.7 sin 0.3 = 0.50
+  EXPECT_NEAR(out[0].gap, -0.3, kTol);
+  EXPECT_EQ(run(rg, c, cylinder(2, 0.5), Pose{}, 1.0, out), 0);  // 0.25 from a flat end
+  EXPECT_EQ(run(rg, c, cylinder(2, 0.7), Pose{}, 1.0, out), 1);
+  // Hollow R 2: the ring centred at x = 1.8 reaches 2.3 (0.3 into the wall).
+  const Pose h(at(Vec3(1.8, 0, 0)));
+  EXPECT_EQ(run(rg, h, hollowArc(2, 1, -0.1, 0.2), Pose{}, 1.0, out), 0);   // 2.3 sin 0.1 = 0.23
+  ASSERT_EQ(run(rg, h, hollowArc(2, 1, -0.2, 0.4), Pose{}, 1.0, out), 1);   // 2.3 sin 0.2 = 0.46
+  EXPECT_NEAR(out[0].gap, -0.3, kTol);
+  EXPECT_EQ(run(rg, h, hollowArc(2, 0.5), Pose{}, 1.0, out), 0);
+}
+
 TEST(ContactGeometry, RingFaceEdgeRule) {
   const double r = 0.5e-3, g = 0.01e-3;
   const Quat vertical = rotAbout(Vec3::UnitX(), kPi / 2);  // deepest point straight below the centre
@@ -1025,6 +1065,88 @@ TEST(ContactGeometry, RingCylinderAgainstBruteForce) {
   for (int k : kinds) EXPECT_EQ(k, 200);
 }
 
+// Ring inside a hollow cylinder (the material outside) at random poses: the
+// lowest emitted gap equals the brute-force minimum of R - |w(t)| over the arc.
+// With r <= 0.4 R and the ring centre 0.5 R .. R - 0.5 r from the axis,
+// |w| >= 0.1 R, so |g''| <= r + r^2 / (0.1 R) = G and the sampling error is
+// below G dt^2 / 8. The normal (B's outward one) points to the axis.
+TEST(ContactGeometry, RingInHollowCylinderAgainstBruteForce) {
+  std::mt19937_64 rng(105);
+  ContactPoint out[kMaxPointsPerPair];
+  int kinds[3] = {};
+  for (int it = 0; it < 600; ++it) {
+    const double R = uni(rng, 1e-3, 6e-3), r = uni(rng, 0.05, 0.4) * R;
+    const Shape s = randomRing(rng, r);
+    const Pose pb = at(Vec3(uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02)), randQuat(rng));
+    const Vec3 u = pb.rotate(Vec3::UnitZ());
+    const Vec3 dir = rotAbout(u, uni(rng, -kPi, kPi)) * anyOrthogonal(u);
+    const Vec3 c = pb.p + uni(rng, 0.5 * R, R - 0.5 * r) * dir + uni(rng, -0.01, 0.01) * u;
+    const int kind = it % 3;
+    Quat q;
+    if (kind == 0) q = pb.q * rotAbout(Vec3::UnitZ(), uni(rng, -kPi, kPi));  // parallel axes
+    else if (kind == 1) q = Quat::FromTwoVectors(Vec3::UnitZ(), rotAbout(u, uni(rng, -kPi, kPi)) * anyOrthogonal(u)) *
+                            rotAbout(Vec3::UnitZ(), uni(rng, -kPi, kPi));  // perpendicular
+    else q = randQuat(rng);
+    const Pose pa = at(c, q);
+    const RingFrame f(pa);
+    auto gapAt = [&](double t) {
+      const Vec3 w = f.at(r, t) - pb.p;
+      return R - (w - u.dot(w) * u).norm();
+    };
+    const double brute = bruteMin(s, gapAt);
+    const int n = run(s, pa, hollowArc(R, 1.0), pb, 1.0, out);
+    ASSERT_GE(n, 1) << "it " << it;
+    const double dt = s.span / (kSamples - 1);
+    const double G = r + r * r / (0.1 * R);
+    EXPECT_NEAR(minGap(out, n), brute, G * dt * dt / 8 + 1e-15) << "it " << it << " kind " << kind;
+    EXPECT_LE(minGap(out, n), brute + 1e-15);
+    for (int i = 0; i < n; ++i) {
+      expectOnArc(out[i].point_a, s, f, 1e-15);
+      const Vec3 wb = out[i].point_b - pb.p;
+      EXPECT_NEAR((wb - u.dot(wb) * u).norm(), R, 1e-15);  // on the lateral surface
+      const Vec3 wa = out[i].point_a - pb.p;
+      expectVecNear(out[i].normal, -(wa - u.dot(wa) * u).normalized(), 1e-12);
+      EXPECT_NEAR(out[i].gap, (out[i].point_a - out[i].point_b).dot(out[i].normal), 1e-15);
+    }
+    ++kinds[kind];
+  }
+  for (int k : kinds) EXPECT_EQ(k, 200);
+}
+
+// A hollow cylinder's patch: the ring (r 0.5) centred at x = 1 inside R 2 along
+// z: nearest point (1.5, 0, 0) on the wall (2, 0, 0), gap 0.5, normal -x; the
+// span limits the wall by the direction from the axis, the length as for a solid.
+TEST(ContactGeometry, RingInHollowCylinderPatchLimits) {
+  ContactPoint out[kMaxPointsPerPair];
+  const Shape rg = ring(0.5);
+  ASSERT_EQ(run(rg, at(Vec3(1, 0, 0)), hollowArc(2, 1), Pose{}, 1.0, out), 1);
+  EXPECT_EQ(out[0].feature, 0);
+  EXPECT_NEAR(out[0].gap, 0.5, kTol);
+  expectVecNear(out[0].normal, -Vec3::UnitX(), kTol);
+  expectVecNear(out[0].point_a, Vec3(1.5, 0, 0), kTol);
+  expectVecNear(out[0].point_b, Vec3(2, 0, 0), kTol);
+  // Pressed 0.1 into the wall: gap -0.1, the same normal.
+  ASSERT_EQ(run(rg, at(Vec3(1.6, 0, 0)), hollowArc(2, 1), Pose{}, 1.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -0.1, kTol);
+  EXPECT_EQ(run(rg, at(Vec3(1, 0, 0.5)), hollowArc(2, 1), Pose{}, 1.0, out), 1);  // at the end: kept
+  EXPECT_EQ(run(rg, at(Vec3(1, 0, 0.5 + 1e-12)), hollowArc(2, 1), Pose{}, 1.0, out), 0);
+  EXPECT_EQ(run(rg, at(Vec3(1, 0, 0)), hollowArc(2, 1, -0.1, 0.2), Pose{}, 1.0, out), 1);
+  EXPECT_EQ(run(rg, at(Vec3(1, 0, 0)), hollowArc(2, 1, 0.1, 0.2), Pose{}, 1.0, out), 0);
+  // The same ring solid-cylinder style would be 1.5 deep: the hollow one is
+  // not the solid one with the sign of the gap flipped.
+  ASSERT_EQ(run(rg, at(Vec3(1, 0, 0)), cylinder(2, 4), Pose{}, 1.0, out), 1);
+  EXPECT_NEAR(out[0].gap, -1.5, kTol);
+  // A guide arc like the C-60's bar wedge (R 5.9, 29 deg about 180 deg) and a
+  // tip passing 0.49 inside it, just before its span: no point; within it, +0.49.
+  const Shape guide = hollowArc(5.9, 3, 165.3 * kPi / 180, 29.4 * kPi / 180);
+  const Vec3 d165(std::cos(165 * kPi / 180), std::sin(165 * kPi / 180), 0);
+  const Vec3 d170(std::cos(170 * kPi / 180), std::sin(170 * kPi / 180), 0);
+  EXPECT_EQ(run(rg, at(4.91 * d165), guide, Pose{}, 1.0, out), 0);
+  ASSERT_EQ(run(rg, at(4.91 * d170), guide, Pose{}, 1.0, out), 1);
+  EXPECT_NEAR(out[0].gap, 0.49, 1e-12);
+  expectVecNear(out[0].normal, -d170, kTol);
+}
+
 // The cylinder's patch: length (closed) and angular span; two minima when a
 // perpendicular ring hoops around the axis.
 TEST(ContactGeometry, RingCylinderPatchLimits) {
@@ -1083,7 +1205,8 @@ TEST(ContactGeometry, RingPairsSwapped) {
     const Shape s = randomRing(rng, 1e-3);
     const Pose pb = at(Vec3::Zero(), randQuat(rng));
     const Pose pa = at(Vec3(uni(rng, -3e-3, 3e-3), uni(rng, -3e-3, 3e-3), uni(rng, -3e-3, 3e-3)), randQuat(rng));
-    const Shape others[3] = {plane(), face(3e-3, 2e-3), cylinderArc(1e-3, 4e-3, uni(rng, -kPi, kPi), uni(rng, 0.5, 2 * kPi))};
+    const Shape others[4] = {plane(), face(3e-3, 2e-3), cylinderArc(1e-3, 4e-3, uni(rng, -kPi, kPi), uni(rng, 0.5, 2 * kPi)),
+                             hollowArc(4e-3, 4e-3, uni(rng, -kPi, kPi), uni(rng, 0.5, 2 * kPi))};
     for (const Shape& b : others) {
       const int n = run(s, pa, b, pb, 1.0, ab);
       const int m = run(b, pb, s, pa, 1.0, ba);

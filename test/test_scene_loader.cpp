@@ -330,10 +330,12 @@ TEST(SceneLoader, RingFaceAndCylinderArcShapes) {
       <shape link="b" type="ring" radius="0.48e-3" start="-1.5707963" span="3.14159265"/></contact>
     <contact name="arc"><shape link="b" type="ring" radius="0.48e-3" span="6.283185307179586"/>
       <shape link="world" type="cylinder" radius="5.63e-3" length="4e-3" start="0.2" span="1.1"/></contact>
+    <contact name="guide"><shape link="world" type="cylinder" radius="5.9e-3" length="3e-3" hollow="true"/>
+      <shape link="b" type="ring" radius="0.5e-3"/></contact>
   </nscd>
 </robot>)";
   const Model m = loadSceneFromString(xml, "rings");
-  ASSERT_EQ(m.contacts.size(), 3u);
+  ASSERT_EQ(m.contacts.size(), 4u);
   const ContactPair& full = m.contacts[0];
   EXPECT_EQ(full.a.type, ShapeType::Ring);
   EXPECT_DOUBLE_EQ(full.a.radius, 0.5e-3);
@@ -352,6 +354,8 @@ TEST(SceneLoader, RingFaceAndCylinderArcShapes) {
   EXPECT_DOUBLE_EQ(arc.b.start, 0.2);
   EXPECT_DOUBLE_EQ(arc.b.span, 1.1);
   EXPECT_DOUBLE_EQ(arc.b.length, 4e-3);
+  EXPECT_FALSE(arc.b.hollow);
+  EXPECT_TRUE(m.contacts[3].a.hollow);
 }
 
 // rpy in <nscd> origins follows the URDF convention: compare with urdfdom's reading of
@@ -648,6 +652,9 @@ TEST(SceneLoaderBad, MoreRefusals) {
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" start="nan"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'start' of <shape>: 'nan' is not a number"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" length="1"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "unknown attribute 'length'"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="cylinder" radius="0.1" length="1" span="6.3"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'span' of <shape> must be in (0, "},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="cylinder" radius="0.1" length="1" hollow="yes"/><shape link="world" type="ring" radius="0.01"/></contact></nscd>)" + tail, "attribute 'hollow' of <shape> must be 'true' or 'false', got 'yes'"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="cylinder" radius="0.1" length="1" hollow="true"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "a hollow cylinder pairs only with a ring, not a plane"},
+      {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="ring" radius="0.1" hollow="true"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "unknown attribute 'hollow'"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 0"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "attribute 'size' of <shape> type 'face' must be 2 numbers > 0"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 2 3"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "expected 2 numbers, got '1 2 3'"},
       {std::string(kHead) + fl + R"(<nscd><contact name="c"><shape link="b" type="face" size="1 x"/><shape link="world" type="plane"/></contact></nscd>)" + tail, "'x' is not a number"},

@@ -110,6 +110,9 @@ struct Shape {
   // lateral surface. Angles (rad) from the frame's +x about +z; start + [0, span].
   double start = 0;
   double span = 6.283185307179586;      // 2 pi: the full circle
+  // Cylinder: the material lies outside its lateral surface (a bore, a concave
+  // guide); a ring is then kept inside it.
+  bool hollow = false;
 };
 
 // A named <nscd><contact>: one shape pair, possibly several contact points.

@@ -35,6 +35,16 @@ void readArc(SceneBuild& sb, const XMLElement* e, Shape& s) {
   s.span = std::min(s.span, kTwoPi);
 }
 
+// Optional `hollow` of a cylinder: "true" or "false" (default).
+bool readHollow(SceneBuild& sb, const XMLElement* e) {
+  if (!has(e, "hollow")) return false;
+  const std::string v = reqString(sb.c, e, "hollow");
+  if (v == "true") return true;
+  if (v == "false") return false;
+  sb.c.fail(e->GetLineNum(), "attribute 'hollow' of <shape> must be 'true' or 'false', got " + squote(v));
+  return false;
+}
+
 // `size="sx sy"` of a face: two numbers > 0.
 Vec3 readFaceHalfSize(SceneBuild& sb, const XMLElement* e) {
   const std::string v = reqString(sb.c, e, "size");
@@ -62,7 +72,10 @@ Shape readShape(SceneBuild& sb, const XMLElement* e) {
     s.type = type == "capsule" ? ShapeType::Capsule : ShapeType::Cylinder;
     s.length = reqNumber(sb.c, e, "length");
     requireRange(sb.c, e, "length", s.length, 0, true, kInf, false);
-    if (s.type == ShapeType::Cylinder) readArc(sb, e, s);
+    if (s.type == ShapeType::Cylinder) {
+      readArc(sb, e, s);
+      s.hollow = readHollow(sb, e);
+    }
   } else if (type == "box") {
     checkAttributes(sb.c, e, vocabularyOf("shape", "box").attributes);
     s.type = ShapeType::Box;
@@ -128,6 +141,10 @@ void readContact(SceneBuild& sb, const XMLElement* e) {
     sb.c.fail(e->GetLineNum(), "contact " + squote(cp.name) + ": " + shapeName(cp.a.type) + "-" + shapeName(cp.b.type) +
                                  " pairs are not supported (supported: " + list + ")");
   }
+  const Shape& other_of_hollow = cp.a.hollow ? cp.b : cp.a;
+  if ((cp.a.hollow || cp.b.hollow) && other_of_hollow.type != ShapeType::Ring)
+    sb.c.fail(e->GetLineNum(), "contact " + squote(cp.name) + ": a hollow cylinder pairs only with a ring, not a " +
+                                 shapeName(other_of_hollow.type));
   cp.src = SourceRef{sb.c.file, e->GetLineNum()};
   sb.m.contacts.push_back(cp);
 }

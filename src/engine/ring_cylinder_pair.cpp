@@ -1,26 +1,31 @@
 // Ring (or arc) outside the lateral surface of a cylinder (B, convex: the ring
-// is kept out of it). The cylinder's axis may make any angle with the ring's.
+// is kept out of it), or inside it when the cylinder is hollow (B's material
+// outside the surface: a bore, a concave guide; the ring is kept in). The
+// cylinder's axis may make any angle with the ring's.
 //
 // Seen across the cylinder axis u (through o), the ring point at angle t is
 //   w(t) = perp(c - o) + r cos t perp(e1) + r sin t perp(e2),  perp(v) = v - (u.v) u,
 // an ellipse (a circle when the axes are parallel, a segment when they are
-// perpendicular), and the gap of that point is |w(t)| - R. Its minima over the
-// arc are found by sampling f(t) = |w(t)|^2 (a trigonometric polynomial of
+// perpendicular), and the gap of that point is |w(t)| - R (hollow: R - |w(t)|).
+// Its minima over the arc are found by sampling f(t) = +-|w(t)|^2 (a trigonometric polynomial of
 // degree 2: at most two local minima on the full circle, plus the arc's ends)
 // on 64 cells per turn, then refining every discrete local minimum by golden
 // section in its two cells and Newton on f'. Each minimum is a contact point
 // when it lies on the cylinder's patch: its axial coordinate within +-length/2
 // and its direction from the axis within the cylinder's start + [0, span]
-// (both closed). Two minima within 1e-9 rad are one.
+// (both closed), and it is no deeper than its distance to the patch's nearest
+// side (a flat end, or the half-plane through the axis at an end of the span):
+// a deeper point came in from the side, behind the patch, where B's other
+// features are. Two minima within 1e-9 rad are one.
 //
 // Features: an interior minimum 0 (a second one, e.g. a ring straddling the
 // axis of a perpendicular cylinder, 3, a third 4...; counted from the ring's
 // start angle, so they keep their ids while no minimum crosses it), the arc's
 // start 1, its end 2.
 //
-// Not handled: the cylinder's flat ends, a ring inside a hollow cylinder (the
-// clearance joints do that), two minima closer than about one cell (1/64 turn)
-// in angle, which the sampling may merge into one.
+// Not handled: the cylinder's flat ends, two minima closer than about one cell
+// (1/64 turn) in angle, which the sampling may merge into one. (A full journal
+// in a full bore is a clearance joint, clearance_geometry.cpp.)
 #include <algorithm>
 
 #include "shape_pairs.hpp"
@@ -35,14 +40,15 @@ constexpr int kMaxCandidates = 6;
 
 struct RingAcrossAxis {
   Vec3 w0, w1, w2;  // w(t) = w0 + cos t w1 + sin t w2
-  double f(double t) const { return (w0 + std::cos(t) * w1 + std::sin(t) * w2).squaredNorm(); }
+  double sign;      // +1: gap grows with |w| (solid cylinder); -1: hollow
+  double f(double t) const { return sign * (w0 + std::cos(t) * w1 + std::sin(t) * w2).squaredNorm(); }
   void derivatives(double t, double& d1, double& d2) const {
     const double ct = std::cos(t), st = std::sin(t);
     const Vec3 w = w0 + ct * w1 + st * w2;
     const Vec3 wp = -st * w1 + ct * w2;
     const Vec3 wpp = -ct * w1 - st * w2;
-    d1 = 2 * w.dot(wp);
-    d2 = 2 * (wp.squaredNorm() + w.dot(wpp));
+    d1 = 2 * sign * w.dot(wp);
+    d2 = 2 * sign * (wp.squaredNorm() + w.dot(wpp));
   }
 };
 
@@ -105,7 +111,8 @@ int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
   const Vec3 e1 = pa.rotate(Vec3::UnitX()), e2 = pa.rotate(Vec3::UnitY());
   const double r = a.radius, R = b.radius;
   auto perp = [&u](const Vec3& v) { return Vec3(v - u.dot(v) * u); };
-  const RingAcrossAxis g{perp(pa.p - o), r * perp(e1), r * perp(e2)};
+  const double sign = b.hollow ? -1.0 : 1.0;
+  const RingAcrossAxis g{perp(pa.p - o), r * perp(e1), r * perp(e2), sign};
 
   const bool full = fullCircle(a.span);
   const double span = full ? kTwoPi : a.span;
@@ -120,7 +127,7 @@ int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
     const double cs = std::cos(step), sn = std::sin(step);
     double ct = std::cos(a.start), st = std::sin(a.start);
     for (int i = 0; i < samples; ++i) {
-      fv[i] = (g.w0 + ct * g.w1 + st * g.w2).squaredNorm();
+      fv[i] = sign * (g.w0 + ct * g.w1 + st * g.w2).squaredNorm();
       const double c2 = ct * cs - st * sn;
       st = st * cs + ct * sn;
       ct = c2;
@@ -175,17 +182,31 @@ int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
     const Vec3 rel = p - o;
     const double along = u.dot(rel);
     if (!(std::abs(along) <= half)) continue;
+    double inside = half - std::abs(along);  // distance to the patch's nearest side
     const Vec3 radial = rel - along * u;
     const double d = radial.norm();
     // On the axis (to round-off) the direction is noise: any normal to it.
     const double tiny = 1e-14 * (rel.norm() + R + r);
-    const Vec3 normal = d > tiny ? Vec3(radial / d) : anyOrthogonal(u);
+    const Vec3 dir = d > tiny ? Vec3(radial / d) : anyOrthogonal(u);
     if (!fullCircle(b.span)) {
-      const Vec3 nl = pb.q.conjugate() * normal;
-      if (!angleInSpan(std::atan2(nl.y(), nl.x()), b.start, b.span)) continue;
+      const Vec3 dl = pb.q.conjugate() * dir;
+      const double angle = std::atan2(dl.y(), dl.x());
+      if (!angleInSpan(angle, b.start, b.span)) continue;
+      // Angle to the nearer end of the span; the point's distance to the
+      // half-plane through the axis at that end.
+      double rel_angle = std::fmod(angle - b.start, kTwoPi);
+      if (rel_angle < 0) rel_angle += kTwoPi;
+      if (rel_angle > b.span) rel_angle = 0;  // on the start, by round-off
+      const double to_end = std::min(rel_angle, b.span - rel_angle);
+      inside = std::min(inside, to_end < kTwoPi / 4 ? d * std::sin(to_end) : d);
     }
-    n = emit(out, n, p, o + along * u + R * normal, normal, radial.dot(normal) - R,
-             cand_feature[k], margin);
+    // B's outward normal: away from the axis, towards it for a hollow cylinder.
+    const Vec3 normal = sign * dir;
+    const double gap = sign * (d - R);
+    // Deeper than the patch's nearest side is far: the point came in from the
+    // side (behind the patch), where other features of B lie.
+    if (-gap > inside) continue;
+    n = emit(out, n, p, o + along * u + R * dir, normal, gap, cand_feature[k], margin);
   }
   return n;
 }

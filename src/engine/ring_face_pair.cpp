@@ -10,6 +10,11 @@
 // contact's business (the edge itself, or the next face). A CAD edge-face
 // distance would there be measured to the face's edge instead. The point
 // vanishes with its gap unchanged: only the set of points jumps.
+//
+// Rule behind the face: a point deeper below the plane than its foot is far
+// from the rectangle's nearest edge is dropped too. It came in from the side,
+// behind the face (a part spinning round, a tooth passing under a tip), where
+// B's other features are; pushing it out through the face would tear joints.
 #include "shape_pairs.hpp"
 
 namespace nscd {

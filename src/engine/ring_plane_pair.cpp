@@ -29,7 +29,11 @@ int arcPoint(const Vec3& c, const Vec3& e1, const Vec3& e2, double r, double t, 
   if (face) {
     // Closed rectangle, no allowance: a foot exactly on an edge counts as on the face.
     const Vec3 l = face->q.conjugate() * (foot - face->p);
-    if (!(std::abs(l.x()) <= hx && std::abs(l.y()) <= hy)) return n;
+    const double inside = std::min(hx - std::abs(l.x()), hy - std::abs(l.y()));
+    if (!(inside >= 0)) return n;
+    // Deeper below the face than its nearest edge is far: the point came in
+    // from the side (behind the face), where other features of B lie.
+    if (-s > inside) return n;
   }
   return emit(out, n, p, foot, m, s, feature, margin);
 }

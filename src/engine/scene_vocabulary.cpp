@@ -24,7 +24,7 @@ const std::vector<SceneElementVocabulary>& sceneVocabulary() {
         {"contact", "", "nscd", {"name", "mu", "e"}, {"shape"}},
         {"shape", "sphere", "contact", {"link", "type", "radius"}, {"origin"}},
         {"shape", "capsule", "contact", {"link", "type", "radius", "length"}, {"origin"}},
-        {"shape", "cylinder", "contact", {"link", "type", "radius", "length", "start", "span"}, {"origin"}},
+        {"shape", "cylinder", "contact", {"link", "type", "radius", "length", "start", "span", "hollow"}, {"origin"}},
         {"shape", "box", "contact", {"link", "type", "size"}, {"origin"}},
         {"shape", "plane", "contact", {"link", "type"}, {"origin"}},
         {"shape", "ring", "contact", {"link", "type", "radius", "start", "span"}, {"origin"}},
