@@ -471,12 +471,13 @@ def face_of(patch, link, outward, offset, x0=None, x1=None):
     return shape(link, 'face', centre + offset * n, R, size=fmt((sx + 2 * FACE_PAD, sy + 2 * FACE_PAD)))
 
 
-def cylinder_arc(link, centre, axis, r, length, a0, span):
+def cylinder_arc(link, centre, axis, r, length, a0, span, hollow=False):
     """A `cylinder` (lateral surface) limited to the angles a0 + [0, span] (rad) about `axis`,
-    measured from the link frame's +x when axis is +z."""
+    measured from the link frame's +x when axis is +z; hollow: the material outside it."""
     R = frame(axis, [1.0, 0, 0])
+    extra = {'hollow': 'true'} if hollow else {}
     return shape(link, 'cylinder', centre, R, radius='%.9g' % (r * MM), length='%.9g' % (length * MM),
-                 start='%.9g' % a0, span='%.9g' % span)
+                 start='%.9g' % a0, span='%.9g' % span, **extra)
 
 
 def circle_angle(centre, r, y, side):
@@ -577,15 +578,18 @@ def contacts(bench, fs, variant='main'):
         if not authors:
             out.append(contact(nm + '_F3', cad['mu'] * fs, ring, cylinder_arc(
                 'trip_bar', f3['centre_local'], [0, 0, 1.0], f3['radius'] + cad['offset'], 3.0, 0.0, math.pi / 2)))
-        # F1: r 5.9 about (5.9571, 4.8635), the material inside it; the arc runs between
-        # its ends at y 3.367 and 6.36 (bbox) on the side x < centre.
+        # F1: r 5.9 about (5.9571, 4.8635), concave: the bar's material lies OUTSIDE the
+        # circle (it continues F2, whose material is at x < 0.25, with a 14.7 deg bend; the
+        # tip after release swings inside it, 0.49 mm clear), so a hollow cylinder whose
+        # radius the offset makes smaller. The arc runs between its ends at y 3.367 and
+        # 6.36 (bbox) on the side x < centre.
         c1 = f1['centre_local']
         a_lo = circle_angle(c1, f1['radius'], f1['bbox_local'][1][1], -1)   # y 6.36
         a_hi = circle_angle(c1, f1['radius'], f1['bbox_local'][0][1], -1)   # y 3.367 (+ 2 pi)
         span = (a_hi - a_lo) % (2 * math.pi)
         assert abs(span - (f1['uv_own'][1] - f1['uv_own'][0])) < 2e-3
         out.append(contact(nm + '_F1', cad['mu'] * fs, ring, cylinder_arc(
-            'trip_bar', c1, [0, 0, 1.0], f1['radius'] + cad['offset'], 3.0, a_lo, span)))
+            'trip_bar', c1, [0, 0, 1.0], f1['radius'] - cad['offset'], 3.0, a_lo, span, hollow=True)))
     # C4_3 / C4_4: the hook flat against the bar's half-rings r 0.5 in the plane x = 0.25,
     # whose apex is the tooth corner (0.25, 7.0).
     out.append(ring_face('C4_3', 'Hook_Tbar_C4_3', fs, ring_body=2))
