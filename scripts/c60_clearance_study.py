@@ -116,6 +116,10 @@ def trip_figures(d):
                            [np.zeros(len(t))]), axis=0)
     broken = np.nonzero(ecc > 1.1)[0]
     fig['joint_apart_ms'] = 1e3 * float(t[broken[0]]) if len(broken) else None
+    # How far the latch starts open (the nose above the seat F4, or the corner): the
+    # journal offsets close the loop with the links turned.
+    fig['latch_gap_initial_um'] = 1e6 * float(c60_plot.group_gap(d, 'C4')[0])
+    fig['hook_yaw_initial_rad'] = float(c60_plot.yaw(d, 'hook')[0])
     return {'trip': fig, 'polarisation_initial': polarisation(d, 0),
             'polarisation_rest': polarisation(d, int(np.nonzero(t < touch)[0][-1]))}
 
@@ -123,8 +127,13 @@ def trip_figures(d):
 def bench_figures(d):
     b = c60_plot.bench(d, None)
     i_eq = int(np.argmin(np.abs(d['t'] - (0.030 - 1e-3))))  # end of the hold at 2 mm
-    return {'bench': {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')},
-            'polarisation_2mm': polarisation(d, i_eq)}
+    fig = {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')}
+    # The bench measures a latched breaker: if the latch is open at 2 mm (every C4 pair
+    # > 20 um: it did not hold through the settling), its forces are not bench figures.
+    fig['latch_open_at_2mm'] = bool(c60_plot.group_gap(d, 'C4')[i_eq] > c60_trip_figures.RELEASE_GAP)
+    if fig['latch_open_at_2mm']:
+        fig.update({k: None for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')})
+    return {'bench': fig, 'polarisation_2mm': polarisation(d, i_eq)}
 
 
 def write_scenes(case, out):
@@ -326,6 +335,7 @@ def report(a):
             L.append('| %s | %s |' % (c[2], ' | '.join(
                 (pol_cell(p[j]) + ', %.3f°' % p[j]['tilt_deg']) if j in p else 'ideal' for j in c60_plot.JOINTS)))
     seeds = [res[c[0]] for c in CASES if c[1] == 'c' and c[0] in res]
+    seed_names = [c[0] for c in CASES if c[1] == 'c' and c[0] in res]
     if seeds:
         L += ['', '## (c) journals starting at random inside their clearances (%d runs)' % len(seeds), '',
               'Each journal\'s centre drawn uniformly in its bore\'s disc and its axial play',
@@ -341,6 +351,25 @@ def report(a):
             L.append('| %s%s | %s | %s | %s | %s | %s |' % (
                 name, (' (%d runs without)' % missing) if missing else '', fmt(nominal and fn(nominal), f),
                 f % min(v), f % float(np.median(v)), f % max(v), f % (max(v) - min(v))))
+        self_trip = ['%s (%.2f ms)' % (n, r['trip']['self_trip_ms']) for n, r in zip(seed_names, seeds)
+                     if r['trip'].get('self_trip_ms')]
+        bench_open = [n for n, r in zip(seed_names, seeds) if r['bench'].get('latch_open_at_2mm')]
+        gaps = [(n, r['trip']['latch_gap_initial_um']) for n, r in zip(seed_names, seeds)]
+        opened = [g for g in gaps if g[1] > 1]
+        turns = [abs(r['trip']['hook_yaw_initial_rad'] - nominal['trip']['hook_yaw_initial_rad']) for r in seeds] \
+            if nominal and 'hook_yaw_initial_rad' in nominal['trip'] else []
+        L += ['', 'At t = 0 the latch is open in %d of %d runs, by %.0f-%.0f um (%s): the journal offsets' % (
+                  len(opened), len(seeds), min(g[1] for g in opened) if opened else 0,
+                  max(g[1] for g in opened) if opened else 0, ', '.join('%s %.0f' % g for g in opened)),
+              'close the loop with the links turned, the hook most (its pivot J3 and the rod pin J6 are 3.0 mm apart%s),' % (
+                  ': up to %.0f mrad' % (1e3 * max(turns)) if turns else ''),
+              'and the nose then falls onto the latch under P3.']
+        L += ['', 'The breaker tripped by itself, before the probe touched the bar (C7 open by more than',
+              '0.1 mm), in %d of %d trip runs%s; the latch was open at 2 mm on the bench in %d of %d%s. Those runs have' % (
+                  len(self_trip), len(seeds), (': ' + ', '.join(self_trip)) if self_trip else '',
+                  len(bench_open), len(seeds), (': ' + ', '.join(bench_open)) if bench_open else ''),
+              'no trip (resp. bench) figures above, and their polarisation at rest (resp. at 2 mm) is',
+              'left out below: they are not latched.']
         L += ['', '### Polarisation: initial (after the assembly), at rest before the probe, at 2 mm', '',
               'e/c_r median [min, max] over the runs; direction spread = the widest gap-free arc',
               'holding every run\'s direction (360° minus the largest empty arc).', '',
@@ -348,7 +377,11 @@ def report(a):
               '|---|---|---|---|---|---|---|']
         for j in c60_plot.JOINTS:
             def col(key, field):
-                return [r[key][j][field] for r in seeds if j in r[key]]
+                # At rest / at 2 mm: latched runs only.
+                held = {'polarisation_initial': lambda r: True,
+                        'polarisation_rest': lambda r: not r['trip'].get('self_trip_ms'),
+                        'polarisation_2mm': lambda r: not r['bench'].get('latch_open_at_2mm')}[key]
+                return [r[key][j][field] for r in seeds if j in r[key] and held(r)]
 
             def spread(dirs):
                 s = sorted(d % 360 for d in dirs)

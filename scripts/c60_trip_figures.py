@@ -15,7 +15,10 @@ c60_clearance_study.py.
 - C7 opens: the start of the separation that becomes the stroke, i.e. the last
   sample closed (gap < 1 um) before the gap first exceeds 0.1 mm after the release
   (the moving contact chatters by a few um before it);
-- stroke: the largest C7 gap, and the moving contact's largest turn from its rest.
+- stroke: the largest C7 gap, and the moving contact's largest turn from its rest;
+- tripped by itself: C7 open by more than 0.1 mm before the probe touches the bar
+  (the latch did not hold through the settling). The probe then pushes nothing, so
+  the touch, forces, release and opening are not figures of a trip: they are None.
 """
 import numpy as np
 
@@ -103,4 +106,12 @@ def figures(d):
     r['events'] = [(name, 1e3 * tt) for name, tt in sorted(((n_, tt) for n_, tt in ev if tt is not None),
                                                               key=lambda e: e[1])]
     r['events_missing'] = [name for name, tt in ev if tt is None]
+    t_self, _ = first(t, (gap > 1e-4) & (t < (t_touch or np.inf)))
+    r['self_trip_ms'] = 1e3 * t_self if t_self else None
+    if t_self:
+        for k in ('touch_ms', 'touch_travel_mm', 'release_ms', 'release_travel_mm', 'corner_ms', 'force_mean_N',
+                  'force_peak_0p1ms_N', 'force_peak_at_ms', 'force_peak_travel_mm',
+                  'force_peak_0p1ms_after_impact_N', 'force_max_sample_N', 'c7_open_ms', 'c7_open_after_release_ms'):
+            r[k] = None
+        r['events'] = [('tripped by itself (C7 > 0.1 mm before any touch)', 1e3 * t_self)]
     return r

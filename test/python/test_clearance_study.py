@@ -57,7 +57,8 @@ def test_backends_and_worker_counts_agree(tmp_path):
         assert m[k] == pytest.approx(c[k], rel=1e-6, abs=1e-6), k
     # The study's figures are the physics' (not all zero, and in the published order).
     t = figures(one, 's07')['trip']
-    assert 0.7 < t['touch_ms'] < t['corner_ms'] < t['release_ms']
+    assert 0.7 < t['touch_ms'] < t['corner_ms'] < t['release_ms'] < t['c7_open_ms'] < t['release_ms'] + 2
+    assert t['self_trip_ms'] is None and t['joint_apart_ms'] is None  # latched, and every joint held
     assert 15.0 < figures(one, 's07')['bench']['equilibrium_force_N'] < 15.5
 
 
