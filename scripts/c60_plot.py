@@ -107,7 +107,8 @@ def trip(d, png):
         m = t >= (touch if touch else 0) - 2e-4
         ax[0].plot(1e3 * x[m], F[m], 'C0')
         if k is not None:
-            ax[0].plot(1e3 * x[k], F[k], 'o', color='C3', label='0.1-ms peak %.2f N' % f['force_peak_0p1ms_N'])
+            # At the peak's value (a 0.1-ms running mean), centred on its window.
+            ax[0].plot(1e3 * x[k], f['force_peak_0p1ms_N'], 'o', color='C3', label='0.1-ms peak %.2f N' % f['force_peak_0p1ms_N'])
         ax[0].plot(1e3 * x[k_imp], F[k_imp], 'x', color='k', label='first-contact impact %.2f N' % F[k_imp])
         ax[0].set_xlabel('probe travel [mm]')
         ax[0].set_ylabel('tripping force (probe) [N]')
