@@ -15,12 +15,13 @@ if [ -L "$ws/src/nscd_sim" ]; then
   echo "removing the old catkin_make workspace in $ws"
   rm -rf "$ws/src" "$ws/build" "$ws/devel"
 fi
+# Each step chained with &&: `set -e` does not act inside a command whose status an
+# `||` tests, so a failed build would otherwise go on and report success.
 (
-  set -e
   cmake -S "$repo" -B "$ws/build" -DCMAKE_BUILD_TYPE=Release -DCATKIN_DEVEL_PREFIX="$ws/devel" \
-    -DPYTHON_EXECUTABLE=/usr/bin/python3
-  cmake --build "$ws/build" -j"$jobs"
-  for target in "$@"; do cmake --build "$ws/build" -j"$jobs" --target "$target"; done
+    -DPYTHON_EXECUTABLE=/usr/bin/python3 &&
+  cmake --build "$ws/build" -j"$jobs" &&
+  for target in "$@"; do cmake --build "$ws/build" -j"$jobs" --target "$target" || exit 1; done
 ) > "$ws/build.log" 2>&1 || {
   tail -n 60 "$ws/build.log"; echo "build failed (full log: $ws/build.log)"; exit 1; }
 echo "built in $ws (log: $ws/build.log); binaries in $ws/devel/lib/nscd_sim"
