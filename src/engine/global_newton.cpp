@@ -14,8 +14,7 @@
 namespace nscd {
 namespace {
 
-constexpr int kNewtonMaxIterations = 60;  // per attempt
-constexpr int kNewtonStall = 25;         // iterations without halving the error: give up
+constexpr NewtonBudget kNewtonAttempt{60, 25};  // per attempt: iterations, and without halving the error
 constexpr int kNonMonotone = 5;          // merit history of the line search
 constexpr int kLineSearchSteps = 30;
 constexpr double kNewtonDelta0 = 1e-10;  // Jacobian regularisation, relative to diag(W)
@@ -25,7 +24,9 @@ constexpr double kNewtonMaxImpulse = 1e3;  // iterates bounded by this * impulse
 
 }  // namespace
 
-bool runNewton(SolveRun& run) {
+bool runNewton(SolveRun& run) { return runNewton(run, kNewtonAttempt); }
+
+bool runNewton(SolveRun& run, const NewtonBudget& budget) {
   const auto& W = run.W;
   const auto& b = run.b;
   const std::vector<ProblemBlock>& blocks = run.blocks;
@@ -44,7 +45,7 @@ bool runNewton(SolveRun& run) {
   auto J = ws.J.topLeftCorner(m, m);
   const int ld = int(ws.J.rows());
   const int maxIt =
-      std::min(kNewtonMaxIterations, options.max_iterations - rep.newton_iterations);
+      std::min(budget.max_iterations, options.max_iterations - rep.newton_iterations);
   ws.Pstart.head(m) = P.head(m);
   run.refreshU();
   double f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, ws.phi.data());
@@ -109,7 +110,7 @@ bool runNewton(SolveRun& run) {
     if (err < 0.5 * progressErr) {
       progressErr = err;
       noProgress = 0;
-    } else if (++noProgress >= kNewtonStall) {
+    } else if (++noProgress >= budget.stall) {
       return false;
     }
   }

@@ -72,8 +72,15 @@ bool runNsgs(SolveRun& run, int until);
 void resumeNsgs(SolveRun& run);
 
 // global_newton.cpp: the global semismooth Newton from the current P; false if
-// it gives up (P is then left at its last iterate: see resumeNsgs).
+// it gives up (P is then left at its last iterate: see resumeNsgs). The budget:
+// at most max_iterations, and give up after `stall` iterations that did not
+// halve the error; without one, a short attempt (60, 25).
+struct NewtonBudget {
+  int max_iterations;
+  int stall;
+};
 bool runNewton(SolveRun& run);
+bool runNewton(SolveRun& run, const NewtonBudget& budget);
 
 // proximal_newton.cpp: the global Newton inside a proximal-point loop, the last
 // resort on hyperstatic sets; false if it gives up (P is then its best iterate,
