@@ -365,7 +365,9 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
     if not authors:  # the authors' handle is free: it only carries its spring [Q-code, 2.4]
         w('    <actuator name="handle" type="position" joint="J1" kp="%.9g" kd="%.9g" max_effort="%.9g"/>' %
           (HANDLE_KP, HANDLE_KD, HANDLE_MAX))
-    w('    <actuator name="probe" type="prescribed" link="probe" axis="-1 0 0"/>')
+    # The probe's x (its CoM along world +x) is prescribed; its other 5 DOF are free in the
+    # plunger bearing [model-facts 0].
+    w('    <actuator name="probe" type="prescribed" link="probe" axis="-1 0 0" constrain="axis"/>')
     # The tripping bar's seating moment [Q-code plugin: m[2] = 15 N mm for t < 1 ms; its sign
     # per model-facts 0: the Newton-Euler body subtracts it, so -15 N mm about +z, clockwise,
     # seating the bar towards its clockwise stop C5].
@@ -651,6 +653,40 @@ def contacts(bench, fs, variant='main'):
                                     cyl['bbox_local'][0][2], a0, a1 - a0),
                        shape('world', 'plane', np.array(pl['point_local']) + cad['offset'] * np.array([1.0, 0, 0]),
                              frame([1.0, 0, 0], [0, 1.0, 0]))))
+
+    # Plunger bearing [CAD row 38; model-facts 0]: the probe's cylinder r 1.19 along its
+    # local x (local x 0.6 .. 8.2, world x -6.5 .. -14.1 at ON) in the case bore r 1.29
+    # (axis y -8.9, z 4.65, world x -15.5 .. -5.5), radial gap 0.099 (0.098973 after the
+    # offset 0.001), mu 0.1. The probe's x is prescribed, its other DOF are free in the bore.
+    # [OWN] The CAD pair is cylinder-cylinder; we give it as the support points of the
+    # guided length, its two ends, each a circle edge against a cylinder: the probe's rear
+    # end (ring r 1.19 at local x 8.2, inside the bore through the whole stroke) and its
+    # front end (ring at local x 0.6) against the bore as a hollow cylinder whose radius
+    # the offset makes smaller (1.289); after 1 mm of stroke the front ring leaves the bore
+    # (world x -5.5) and the bore's mouth takes over: the case's ring r 1.29 at x -5.5
+    # around the probe's cylinder, whose radius the offset makes larger (1.191). Each ring
+    # counts only while it lies within the other part's length, so the front support
+    # passes from one pair to the other at 1 mm of stroke without a gap in the guide.
+    cad = CAD['plunger_bearing']
+    pc, bore = cad['patch1'][0], cad['patch2'][0]
+    assert all(abs(p['radius'] - pc['radius']) < 1e-9 for p in cad['patch1'])
+    assert all(abs(p['radius'] - bore['radius']) < 1e-9 for p in cad['patch2'])
+    px0, px1 = pc['bbox_local'][0][0], pc['bbox_local'][1][0]           # 0.6, 8.2 (probe-local)
+    bx0, bx1 = bore['bbox_world'][0][0], bore['bbox_world'][1][0]       # -15.5, -5.5 (world)
+    axis_probe = frame([1.0, 0, 0], [0, 1.0, 0])                        # z along the probe
+    axis_case = frame([1.0, 0, 0], [0, 1.0, 0])
+    bore_c = np.array([0.5 * (bx0 + bx1), bore['centre_world'][1], bore['centre_world'][2]])
+    bore_cyl = shape('world', 'cylinder', bore_c, axis_case, radius='%.9g' % ((bore['radius'] - cad['offset']) * MM),
+                     length='%.9g' % ((bx1 - bx0) * MM), hollow='true')
+    for name, x in [('plunger_bearing', px1), ('plunger_bearing_front', px0)]:
+        out.append(contact(name, cad['mu'] * fs,
+                           shape('probe', 'ring', (x, 0, 0), axis_probe, radius='%.9g' % (pc['radius'] * MM)),
+                           bore_cyl))
+    out.append(contact('plunger_bearing_mouth', cad['mu'] * fs,
+                       shape('world', 'ring', (bx1, bore_c[1], bore_c[2]), axis_case,
+                             radius='%.9g' % (bore['radius'] * MM)),
+                       shape('probe', 'cylinder', (0.5 * (px0 + px1), 0, 0), axis_probe,
+                             radius='%.9g' % ((pc['radius'] + cad['offset']) * MM), length='%.9g' % ((px1 - px0) * MM))))
 
     if bench:
         # TABLE [OWN]: the table face pushes the C7 arc, starting TABLE_GAP behind the fixed

@@ -137,10 +137,12 @@ TEST(C60, ContactGapsAtOnAreTheCads) {
       {"C4_4", 0.017294, 1e-4}, {"C5", 0.019465, 1e-4},    {"C5_2", 0.019465, 1e-4},   // 17, 29, 30
       {"C6", 1.146068, 1e-4},   {"C6_2", 1.146068, 1e-4},  {"C6_3", 1.037034, 5e-4},   // 31-33
       {"C6_4", 1.037034, 5e-4}, {"C7", 0.038603, 1e-4},    {"TRIP", 0.379133, 1e-4},   // 34, 24, 36
-      {"FC", 0.388155, 1e-4},                                                          // 37
+      {"FC", 0.388155, 1e-4},   {"plunger_bearing", 0.098973, 1e-4},                   // 37, 38
+      {"plunger_bearing_front", 0.098973, 1e-4},  // 38: coaxial at ON, one gap all along
   };
   for (const auto& k : cad) EXPECT_NEAR(1e3 * c.at(0, std::string(k.name) + ".gap"), k.gap_mm, k.tol_mm) << k.name;
-  for (const char* n : {"C3", "C3_2", "TRIP_upper", "C4_F1", "C4_F2", "C4_F3", "C4_2_F1", "C4_2_F2", "C4_2_F3"})
+  // plunger_bearing_mouth: the bore's mouth lies 1 mm ahead of the probe's cylinder at ON.
+  for (const char* n : {"C3", "C3_2", "TRIP_upper", "plunger_bearing_mouth", "C4_F1", "C4_F2", "C4_F3", "C4_2_F1", "C4_2_F2", "C4_2_F3"})
     EXPECT_TRUE(std::isinf(c.at(0, std::string(n) + ".gap"))) << n;
 }
 
@@ -210,6 +212,16 @@ static void expectPublishedTripSequence(const std::string& scene, double duratio
   }
   EXPECT_EQ(joints, 9);  // J1-J7, S3 and P3_axis
   EXPECT_LT(ecc_max, 1.001) << "a journal left its bearing";
+  // The probe: its x follows the command (constrain="axis"), its other DOF are free in the
+  // plunger bearing, which holds it: no bearing contact deeper than the projection
+  // tolerance (1 nm) plus round-off.
+  double probe_x_err = 0, bearing_gap_min = INFINITY;
+  for (size_t i = 0; i < c.rows.size(); ++i) {
+    probe_x_err = std::max(probe_x_err, std::abs(c.at(i, "probe.x") - c.at(0, "probe.x") - c.at(i, "probe.cmd")));
+    bearing_gap_min = std::min(bearing_gap_min, groupGap(c, i, "plunger_bearing"));
+  }
+  EXPECT_LT(probe_x_err, 1e-11);
+  EXPECT_GT(bearing_gap_min, -2e-9) << "the probe left its bore";
   const double nan = NAN;
   double t_touch = nan, t_corner = nan, t_release = nan, t_open = nan, gap_at_start = nan;
   bool on_seat_until_touch = true, corner_until_release = true, probe_pushes = true, stays_open = true;

@@ -429,6 +429,7 @@ TEST(SceneLoader, AttachmentsAreConvertedToTheBodyFrame) {
   const double th = kPi / 2 + 0.25;
   EXPECT_LT((slide.axis - Vec3(std::cos(th), std::sin(th), 0)).norm(), kTight);
   EXPECT_DOUBLE_EQ(slide.initial_command, 0.0);
+  EXPECT_FALSE(slide.axis_only);  // constrain="all", the default
   // Position actuator starts at the initial joint position; command= overrides it.
   const Actuator& servo = m.actuators[m.findActuator("servo")];
   EXPECT_EQ(servo.joint, findJoint(m, "hinge"));
@@ -679,6 +680,9 @@ TEST(SceneLoaderBad, MoreRefusals) {
       {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="position" joint="j" kp="-1"/></nscd>)" + tail, "'kp'"},
       {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="position" joint="j"/><actuator name="a" type="position" joint="j"/></nscd>)" + tail, "duplicate actuator name 'a'"},
       {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="prescribed" link="b" axis="0 0 0"/></nscd>)" + tail, "axis must be non-zero"},
+      {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="prescribed" link="b" axis="1 0 0" constrain="x"/></nscd>)" + tail, "actuator 'a': constrain must be 'all' (the other 5 DOF fixed) or 'axis' (only the translation along axis prescribed), not 'x'"},
+      {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="prescribed" joint="j" constrain="axis"/></nscd>)" + tail, "actuator 'a': 'constrain' applies to link= only"},
+      {std::string(kHead) + rv + R"(<nscd><actuator name="a" type="force" link="b" direction="1 0 0" constrain="axis"/></nscd>)" + tail, "unknown attribute 'constrain'"},
       {std::string(kHead) + rv + R"(<nscd foo="1"/>)" + tail, "unknown attribute 'foo' on <nscd>"},
       {std::string(kHead) + rv + R"(<nscd><simulation dt="1e-4"/><simulation dt="1e-4"/></nscd>)" + tail, "more than one <simulation>"},
       {std::string(kHead) + rv + R"(<nscd><simulation theta="0.4"/></nscd>)" + tail, "'theta'"},

@@ -149,6 +149,9 @@ struct Actuator {
   int joint = -1;     // position; prescribed with joint=
   int body = kGround; // prescribed with link=; force; torque
   Vec3 axis = Vec3::UnitX();       // prescribed link: unit direction, world frame
+  // Prescribed link: constrain="axis" prescribes only the translation along `axis` (1 row;
+  // the other 5 DOF are free); the default "all" also holds them fixed (6 rows).
+  bool axis_only = false;
   Vec3 point = Vec3::Zero();       // force: application point, body frame
   Vec3 direction = Vec3::UnitX();  // force: unit direction; torque: unit axis; body frame
   double kp = 0, kd = 0;

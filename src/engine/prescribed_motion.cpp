@@ -1,6 +1,8 @@
 // A prescribed actuator: a kinematic driver. With joint=, the joint coordinate
 // follows the command (1 row); with link=, the body translates along the axis by
-// the command from its initial pose and its other 5 DOF stay fixed (6 rows).
+// the command from its initial pose and its other 5 DOF stay fixed (6 rows), or,
+// with constrain="axis", only that translation is prescribed (1 row, the other 5
+// DOF free: a plunger guided by contacts).
 // The row targets are the commanded rate; the errors the position mismatch.
 #include "joint_rows.hpp"
 
@@ -36,6 +38,13 @@ void appendPrescribedRows(const Model& m, const State& s, int ai, double rate,
   blk.body_b = ac.body;
   const Frame3 f = frameAround(ac.axis);
   const Vec3 disp = b.x - body.initial_pose.p - command * ac.axis;
+  if (ac.axis_only) {
+    putRow(G, r, s, kGround, ac.body, f.e[0], Vec3::Zero(), Vec3::Zero(), Vec3::Zero());
+    blk.error[0] = disp.dot(f.e[0]);
+    blk.target[0] = rate;
+    ++r;
+    return;
+  }
   for (int i = 0; i < 3; ++i) {
     putRow(G, r, s, kGround, ac.body, f.e[i], Vec3::Zero(), Vec3::Zero(), Vec3::Zero());
     blk.error[i] = disp.dot(f.e[i]);

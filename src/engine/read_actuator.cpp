@@ -66,7 +66,13 @@ void readActuator(SceneBuild& sb, const XMLElement* e) {
       const Vec3 ax = reqVec3(sb.c, e, "axis");
       if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
       a.axis = sb.links[l].world.rotate(ax).normalized();  // link frame -> world, at the initial pose
+      const std::string constrain = has(e, "constrain") ? reqString(sb.c, e, "constrain") : "all";
+      if (constrain == "axis") a.axis_only = true;
+      else if (constrain != "all")
+        sb.c.fail(e->GetLineNum(), what + ": constrain must be 'all' (the other 5 DOF fixed) or 'axis' (only the translation "
+                                          "along axis prescribed), not " + squote(constrain));
     } else if (has(e, "joint")) {
+      if (has(e, "constrain")) sb.c.fail(e->GetLineNum(), what + ": 'constrain' applies to link= only (a joint drive prescribes its one coordinate)");
       if (has(e, "axis")) sb.c.fail(e->GetLineNum(), what + ": 'axis' applies to link= only (a joint moves about its own axis)");
       a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
       if (sb.m.joints[a.joint].type == JointType::Fixed)

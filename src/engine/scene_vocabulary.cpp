@@ -33,7 +33,7 @@ const std::vector<SceneElementVocabulary>& sceneVocabulary() {
         {"end", "", "spring", {"link", "xyz"}, {}},
         {"spring", "torsion", "nscd", {"name", "type", "joint", "stiffness", "rest_angle", "damping"}, {}},
         {"actuator", "position", "nscd", {"name", "type", "joint", "kp", "kd", "max_effort", "command", "schedule"}, {}},
-        {"actuator", "prescribed", "nscd", {"name", "type", "link", "joint", "axis", "command", "schedule"}, {}},
+        {"actuator", "prescribed", "nscd", {"name", "type", "link", "joint", "axis", "constrain", "command", "schedule"}, {}},
         {"actuator", "force", "nscd", {"name", "type", "link", "xyz", "direction", "command", "schedule"}, {}},
         {"actuator", "torque", "nscd", {"name", "type", "link", "axis", "command", "schedule"}, {}},
         {"simulation", "", "nscd", settingKeys(), {}},

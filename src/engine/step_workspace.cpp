@@ -22,7 +22,7 @@ int bilateralRowCount(const Model& m, std::vector<int>& joint_base, std::vector<
   for (size_t a = 0; a < m.actuators.size(); ++a) {
     if (m.actuators[a].type != ActuatorType::Prescribed) continue;
     act_base[a] = rows;
-    rows += m.actuators[a].joint >= 0 ? 1 : 6;
+    rows += m.actuators[a].joint >= 0 || m.actuators[a].axis_only ? 1 : 6;
   }
   return rows;
 }

@@ -24,8 +24,16 @@ def test_the_ten_line_example_runs(tmp_path, monkeypatch):
     rec = namespace['rec']
     touching = rec['TRIP.fn'] > 0
     assert touching.any()
-    # While they touch, the TRIP contact's normal force is the probe's effort (to the
-    # solver's tolerance: 1e-9 N mostly, 5e-6 of the force at two samples).
-    fn, effort = rec['TRIP.fn'][touching], rec['probe.effort'][touching]
-    assert (abs(fn - effort) <= 1e-5 * abs(fn) + 1e-8).all()
+    # While they touch, the probe's effort (the force along its prescribed axis) is the TRIP
+    # contact's normal force, plus what the plunger bearing takes along the axis (its
+    # friction, and its normal force's share on the tilted probe), plus the axial part of
+    # TRIP's friction on the tilted face. The probe tilts by under 0.05 rad in its bore
+    # (diametral gap 0.198 mm over a guided length >= 4.6 mm); solver tolerance 1e-5 of fn.
+    t = touching
+    fn, effort = rec['TRIP.fn'][t], rec['probe.effort'][t]
+    tilt = 0.05
+    bearing = sum(rec[n + '.ft'][t] + tilt * rec[n + '.fn'][t]
+                  for n in ('plunger_bearing', 'plunger_bearing_front', 'plunger_bearing_mouth'))
+    bound = bearing + tilt * rec['TRIP.ft'][t] + (tilt ** 2 / 2 + 1e-5) * abs(fn) + 1e-8
+    assert (abs(fn - effort) <= bound).all()
     namespace['plt'].close('all')
