@@ -71,8 +71,8 @@ def check(bag_path):
               '/nscd_sim_node/status'):
         if rec['counts'].get(t, 0) < 5:
             fail.append('bag: %d messages on %s' % (rec['counts'].get(t, 0), t))
-    if not rec['kf'] or max(k[0] for k in rec['kf']) < 0.0085:
-        fail.append('bag: the key figures do not reach 8.5 ms of sim time')
+    if not rec['kf'] or max(k[0] for k in rec['kf']) < 0.0095:
+        fail.append('bag: the key figures do not reach 9.5 ms of sim time')
     if fail:
         sys.exit('FAIL: ' + '; '.join(fail))
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The rosbag round trip of docs/node.md on the C-60 trip: the node (config/c60_trip.yaml,
-# started paused) is stepped to 8.5 ms of sim time (past the latch release) while
+# started paused) is stepped to 9.5 ms of sim time (past the latch release and the opening) while
 # `rosbag record` records what RViz shows; the node stops; launch/c60_playback.launch
 # (rviz:=false) plays the bag, and rosbag_roundtrip.py checks that the key figures,
 # status texts, contact markers (with the event label), /tf, /joint_states and /clock
@@ -41,7 +41,7 @@ for _ in $(seq 200); do
   sleep 0.1
 done
 [ "$n" -eq 3 ] || { echo "FAIL: rosbag record did not subscribe"; cat "$out/record.log"; exit 1; }
-/usr/bin/python3 "$here/rosbag_roundtrip.py" drive 0.0085 || { echo "FAIL: driving the node"; tail "$out/node.log"; exit 1; }
+/usr/bin/python3 "$here/rosbag_roundtrip.py" drive 0.0095 || { echo "FAIL: driving the node"; tail "$out/node.log"; exit 1; }
 sleep 1
 stop "$record_pid"; record_pid=""
 stop "$launch_pid"; launch_pid=""
