@@ -79,7 +79,7 @@ since the solver changes of 2026-11-25 (docs/performance.md, "Hyperstatic sets")
 - **Ideal joints (x0).** The same order of events, earlier: nothing settles into a
   clearance. The bench hysteresis vanishes: with frictionless ideal joints nothing
   dissipates in the joints, which is the paper's point about joint friction.
-- **C7 opens** 0.24-0.50 ms after the release in every case. (Before the wedge fix of
+- **C7 opens** 0.22-0.50 ms after the release in every case. (Before the wedge fix of
   2026-11-25 evening, docs/c60.md engine issue 6, a clearance joint came apart as C7
   opened and the opening was not a result; the ideal model reached 0.11 mm of
   penetration after the release, now 0.1 nm.)
