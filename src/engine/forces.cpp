@@ -155,12 +155,16 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
     if (!with_jacobians) return;
     // Central differences over the 6 velocity and 6 position DOF of each body.
+    // Without damping the force does not depend on the velocities (they enter
+    // multiplied by 0): its velocity columns are exactly 0 and are skipped.
+    const bool damped = el.is_spring ? m.springs[el.index].damping != 0
+                                     : m.actuators[el.index].kd != 0;
     const int bodies[2] = {el.body_a, el.body_b};
     for (int side = 0; side < 2; ++side) {
       const int bj = bodies[side];
       if (bj == kGround) continue;
       const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
-      for (int pos = 0; pos < 2; ++pos) {
+      for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
         for (int dof = 0; dof < 6; ++dof) {
           const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
           BodyState ap = a0, bp = b0, am = a0, bm = b0;
