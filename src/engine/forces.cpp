@@ -1,6 +1,7 @@
 // Stage 1: forces. Gravity, springs, dampers and actuators, with the derivatives
 // the Moreau-Jean iteration matrix needs for the stiff elements (springs and PD
 // actuators), by finite differences per element. (Gyroscopic torques: free_velocity.cpp.)
+#include <algorithm>
 #include <cmath>
 
 #include "joint_rows.hpp"
@@ -120,10 +121,16 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
                    bool with_jacobians) {
   const std::vector<double>& commands = s.commands;
   ws.F.setZero();
-  if (with_jacobians) {
-    ws.K.setZero();
-    ws.C.setZero();
-  }
+  // K and C are nonzero only within the stiff groups (the bodies springs and PD
+  // actuators join): only those blocks are cleared and symmetrised.
+  const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
+  if (with_jacobians)
+    for (const std::vector<int>& g : groups)
+      for (int bc : g)
+        for (int br : g) {
+          ws.K.block<6, 6>(6 * br, 6 * bc).setZero();
+          ws.C.block<6, 6>(6 * br, 6 * bc).setZero();
+        }
   const Vec3 g = m.settings.gravity;
   for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
   // Force and torque actuators: explicit.
@@ -194,12 +201,15 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
   if (with_jacobians) {
     // Only the symmetric part enters the iteration matrix (it must stay SPD).
     for (Eigen::MatrixXd* D : {&ws.K, &ws.C})
-      for (int c = 0; c < ws.n; ++c)
-        for (int r = c + 1; r < ws.n; ++r) {
-          const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
-          (*D)(r, c) = avg;
-          (*D)(c, r) = avg;
-        }
+      for (const std::vector<int>& g : groups)
+        for (int bc : g)
+          for (int c = 6 * bc; c < 6 * bc + 6; ++c)
+            for (int br : g)
+              for (int r = std::max(6 * br, c + 1); r < 6 * br + 6; ++r) {
+                const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
+                (*D)(r, c) = avg;
+                (*D)(c, r) = avg;
+              }
   }
 }
 
