@@ -2,10 +2,20 @@
 // to velocity changes). Every row of G touches at most two bodies, i.e. 12 of
 // its 6N columns, so both products are formed from those 6-column pieces only:
 // O(r·12·6N) and O(r²·12) instead of O(r·(6N)²) and O(r²·6N) for dense products.
-// W is filled symmetrically.
+// W is filled symmetrically. Ŵ itself is block-diagonal over the bodies, or over
+// the groups of bodies springs and PD actuators join (ModelFacts::coupled).
 #include "step_stages.hpp"
 
 namespace nscd {
+namespace {
+
+// The dot product of two 6-vectors, summed as Eigen sums a non-vectorised
+// fixed-size 6 (G's row pieces are strided): (0 + (1 + 2)) + (3 + (4 + 5)).
+inline double dot6(const double* a, const double* b) {
+  return (a[0] * b[0] + (a[1] * b[1] + a[2] * b[2])) + (a[3] * b[3] + (a[4] * b[4] + a[5] * b[5]));
+}
+
+}  // namespace
 
 void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
                       StepWorkspace& ws, int from, int r) {
@@ -21,19 +31,32 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
     for (int body : ws.row_bodies[i]) {
       if (body == kGround) continue;
       const Vec6 g = ws.G.row(i).segment<6>(6 * body).transpose();
-      if (block_diagonal)  // no coupling between bodies: only this body's 6 x 6 block
+      if (block_diagonal) {  // no coupling between bodies: only this body's 6 x 6 block
         y.segment<6>(6 * body).noalias() += iteration_inverse.block<6, 6>(6 * body, 6 * body) * g;
-      else
-        y.noalias() += iteration_inverse.middleCols<6>(6 * body) * g;
+        continue;
+      }
+      // Ŵ couples a body only with those of its stiff group (iteration_matrix.cpp).
+      for (int c : ws.facts.coupled[body])
+        y.segment<6>(6 * c).noalias() += iteration_inverse.block<6, 6>(6 * c, 6 * body) * g;
     }
   }
+  const double* Y = ws.Y.data();
+  const Eigen::Index ldy = ws.Y.outerStride();
   for (int i = from; i < r; ++i) {
-    const std::array<int, 2>& bi = ws.row_bodies[i];
+    // Row i's pieces of G (one per body it touches), copied out of G's strided row.
+    int off[2];
+    double g[2][6];
+    int np = 0;
+    for (int body : ws.row_bodies[i]) {
+      if (body == kGround) continue;
+      off[np] = 6 * body;
+      for (int k = 0; k < 6; ++k) g[np][k] = ws.G(i, 6 * body + k);
+      ++np;
+    }
     for (int j = 0; j <= i; ++j) {
+      const double* yj = Y + j * ldy;
       double w = 0;
-      for (int body : bi)
-        if (body != kGround)
-          w += ws.G.row(i).segment<6>(6 * body).dot(ws.Y.col(j).segment<6>(6 * body));
+      for (int q = 0; q < np; ++q) w += dot6(g[q], yj + off[q]);
       ws.W(i, j) = w;
       ws.W(j, i) = w;
     }

@@ -1,6 +1,7 @@
 // Stage 1: forces. Gravity, springs, dampers and actuators, with the derivatives
 // the Moreau-Jean iteration matrix needs for the stiff elements (springs and PD
 // actuators), by finite differences per element. (Gyroscopic torques: free_velocity.cpp.)
+#include <algorithm>
 #include <cmath>
 
 #include "joint_rows.hpp"
@@ -120,10 +121,16 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
                    bool with_jacobians) {
   const std::vector<double>& commands = s.commands;
   ws.F.setZero();
-  if (with_jacobians) {
-    ws.K.setZero();
-    ws.C.setZero();
-  }
+  // K and C are nonzero only within the stiff groups (the bodies springs and PD
+  // actuators join): only those blocks are cleared and symmetrised.
+  const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
+  if (with_jacobians)
+    for (const std::vector<int>& g : groups)
+      for (int bc : g)
+        for (int br : g) {
+          ws.K.block<6, 6>(6 * br, 6 * bc).setZero();
+          ws.C.block<6, 6>(6 * br, 6 * bc).setZero();
+        }
   const Vec3 g = m.settings.gravity;
   for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
   // Force and torque actuators: explicit.
@@ -155,12 +162,16 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
     if (!with_jacobians) return;
     // Central differences over the 6 velocity and 6 position DOF of each body.
+    // Without damping the force does not depend on the velocities (they enter
+    // multiplied by 0): its velocity columns are exactly 0 and are skipped.
+    const bool damped = el.is_spring ? m.springs[el.index].damping != 0
+                                     : m.actuators[el.index].kd != 0;
     const int bodies[2] = {el.body_a, el.body_b};
     for (int side = 0; side < 2; ++side) {
       const int bj = bodies[side];
       if (bj == kGround) continue;
       const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
-      for (int pos = 0; pos < 2; ++pos) {
+      for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
         for (int dof = 0; dof < 6; ++dof) {
           const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
           BodyState ap = a0, bp = b0, am = a0, bm = b0;
@@ -190,12 +201,15 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
   if (with_jacobians) {
     // Only the symmetric part enters the iteration matrix (it must stay SPD).
     for (Eigen::MatrixXd* D : {&ws.K, &ws.C})
-      for (int c = 0; c < ws.n; ++c)
-        for (int r = c + 1; r < ws.n; ++r) {
-          const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
-          (*D)(r, c) = avg;
-          (*D)(c, r) = avg;
-        }
+      for (const std::vector<int>& g : groups)
+        for (int bc : g)
+          for (int c = 6 * bc; c < 6 * bc + 6; ++c)
+            for (int br : g)
+              for (int r = std::max(6 * br, c + 1); r < 6 * br + 6; ++r) {
+                const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
+                (*D)(r, c) = avg;
+                (*D)(c, r) = avg;
+              }
   }
 }
 

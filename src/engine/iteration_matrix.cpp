@@ -29,6 +29,52 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
   const int n = ws.n;
   ws.rhs.noalias() = h * ws.F;
   if (!ws.facts.stiff) return;
+  ws.rhs.noalias() += (h * h * theta) * ws.K * ws.vk;
+  if (!ws.facts.planar) {
+    // C and K couple only the bodies of a stiff group, so A is block-diagonal over
+    // the groups, and every other body's block is M's: Ŵ is M^-1 there (set up
+    // once, never written) and each group's block of A is inverted on its own.
+    const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
+    bool ok = true;
+    for (size_t g = 0; g < groups.size() && ok; ++g) {
+      const std::vector<int>& bodies = groups[g];
+      Eigen::MatrixXd& Ag = ws.group_A[g];
+      const int k = static_cast<int>(bodies.size());
+      for (int bc = 0; bc < k; ++bc)
+        for (int br = 0; br < k; ++br) {
+          const int r0 = 6 * bodies[br], c0 = 6 * bodies[bc];
+          for (int c = 0; c < 6; ++c)
+            for (int r = 0; r < 6; ++r) {
+              double base = 0;
+              if (br == bc) {
+                const Body& body = m.bodies[bodies[br]];
+                if (r < 3 && c < 3) base = r == c ? body.mass : 0.0;
+                else if (r >= 3 && c >= 3) base = body.inertia(r - 3, c - 3);
+              }
+              Ag(6 * br + r, 6 * bc + c) = base - h * theta * ws.C(r0 + r, c0 + c) -
+                                           h * h * theta * theta * ws.K(r0 + r, c0 + c);
+            }
+        }
+      Eigen::LLT<Eigen::MatrixXd>& llt = ws.group_llt[g];
+      llt.compute(Ag);
+      if (llt.info() != Eigen::Success) {
+        ok = false;
+        break;
+      }
+      Eigen::MatrixXd& inv = ws.group_inverse[g];
+      inv.setIdentity();
+      llt.solveInPlace(inv);
+      for (int bc = 0; bc < k; ++bc)
+        for (int br = 0; br < k; ++br)
+          ws.iteration_inverse.block<6, 6>(6 * bodies[br], 6 * bodies[bc]) =
+              inv.block<6, 6>(6 * br, 6 * bc);
+    }
+    if (!ok) {
+      ws.iteration_inverse = ws.mass_inverse;
+      st.iteration_matrix_fallback = true;
+    }
+    return;
+  }
   for (int i = 0; i < ws.nbodies; ++i) {
     ws.A.block<6, 6>(6 * i, 6 * i).setZero();
     ws.A.block<3, 3>(6 * i, 6 * i) = m.bodies[i].mass * Mat3::Identity();
@@ -41,7 +87,6 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
       const double base = diag_block ? ws.A(r, c) : 0.0;
       ws.A(r, c) = base - h * theta * ws.C(r, c) - h * h * theta * theta * ws.K(r, c);
     }
-  ws.rhs.noalias() += (h * h * theta) * ws.K * ws.vk;
   if (!reducedInverse(ws.A, ws, ws.iteration_inverse)) {
     // Not positive definite (a spring stiffer than the step can carry implicitly):
     // the step treats the elements explicitly.

@@ -136,6 +136,15 @@ int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
   int best = 0;
   for (int i = 1; i < samples; ++i)
     if (fv[i] < fv[best]) best = i;
+  {
+    // Every point refined below lies within one cell of a sample, and moving
+    // along the ring by dt moves w(t) by at most r dt: no gap on the ring is
+    // below the best sample's minus r * step. A pair that far apart emits
+    // nothing (emit() keeps gap < margin only), so the refinements are skipped.
+    const double reach = std::sqrt(sign * fv[best]);
+    const double lower = sign > 0 ? reach - R - r * step : R - reach - r * step;
+    if (lower - margin > 1e-12 + 1e-9 * (R + r)) return 0;
+  }
 
   double cand_t[kMaxCandidates];
   int cand_feature[kMaxCandidates];

@@ -35,6 +35,42 @@ bool hasStiffElements(const Model& m) {
   return false;
 }
 
+// Connected components of the bodies joined by springs and PD actuators.
+void findStiffGroups(const Model& m, ModelFacts& f) {
+  const int nb = static_cast<int>(m.bodies.size());
+  std::vector<int> parent(nb);
+  for (int i = 0; i < nb; ++i) parent[i] = i;
+  std::vector<char> stiff(nb, 0);
+  auto root = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  auto join = [&](int a, int b) {
+    if (a != kGround) stiff[a] = 1;
+    if (b != kGround) stiff[b] = 1;
+    if (a == kGround || b == kGround) return;
+    parent[root(a)] = root(b);
+  };
+  for (const Spring& sp : m.springs) join(sp.body_a, sp.body_b);
+  for (const Actuator& ac : m.actuators)
+    if (ac.type == ActuatorType::Position) join(m.joints[ac.joint].body_a, m.joints[ac.joint].body_b);
+  f.stiff_groups.clear();
+  std::vector<int> group_of_root(nb, -1);
+  for (int i = 0; i < nb; ++i) {  // ascending bodies: each group ascending
+    if (!stiff[i]) continue;
+    int& g = group_of_root[root(i)];
+    if (g < 0) {
+      g = static_cast<int>(f.stiff_groups.size());
+      f.stiff_groups.emplace_back();
+    }
+    f.stiff_groups[g].push_back(i);
+  }
+  f.coupled.assign(nb, {});
+  for (int i = 0; i < nb; ++i) f.coupled[i] = {i};
+  for (const std::vector<int>& g : f.stiff_groups)
+    for (int i : g) f.coupled[i] = g;
+}
+
 }  // namespace
 
 void initStepWorkspace(const Model& m, StepWorkspace& ws) {
@@ -48,6 +84,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   f.contact_slot_base_clearance = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair;
   f.stiff = hasStiffElements(m);
   f.planar = m.settings.planar == PlanarMode::XY;
+  findStiffGroups(m, f);
   f.prescribed_body.assign(m.bodies.size(), 0);
   for (const Actuator& ac : m.actuators) {
     if (ac.type != ActuatorType::Prescribed) continue;
@@ -105,6 +142,16 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   if (!reducedInverse(ws.A, ws, ws.mass_inverse))
     throw std::runtime_error(m.source_file + ": mass matrix is not positive definite");
   ws.iteration_inverse = ws.mass_inverse;
+  ws.group_A.clear();
+  ws.group_inverse.clear();
+  ws.group_llt.clear();
+  for (const std::vector<int>& g : f.stiff_groups) {
+    const int k = 6 * static_cast<int>(g.size());
+    ws.group_A.push_back(Eigen::MatrixXd::Identity(k, k));
+    ws.group_inverse.push_back(Eigen::MatrixXd::Identity(k, k));
+    ws.group_llt.emplace_back(k);
+    ws.group_llt.back().compute(ws.group_A.back());  // sizes its buffers
+  }
 }
 
 void initStepOutputs(const Model& m, StepOutputs& out) {

@@ -65,6 +65,13 @@ struct ModelFacts {
   std::vector<int> actuator_row_base;   // of each prescribed actuator
   int bilateral_rows = 0;
   bool stiff = false;    // springs or PD actuators: an iteration matrix, coupled bodies
+  // The bodies that springs and PD actuators join (connected components, ground
+  // left out), each ascending: the iteration matrix is block-diagonal over them
+  // (every other body keeps its M^-1 block).
+  std::vector<std::vector<int>> stiff_groups;
+  // Per body: the bodies Ŵ couples it with, itself included, ascending (its
+  // stiff group, or itself alone).
+  std::vector<std::vector<int>> coupled;
   bool planar = false;   // x-y plane motions only
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
@@ -89,6 +96,9 @@ class StepWorkspace {
   Eigen::MatrixXd red;     // nred x nred scratch
   Eigen::MatrixXd AB, BT;  // planar scratch: A B (n x nred), B^T (nred x n)
   Eigen::LLT<Eigen::MatrixXd> llt;
+  // Per stiff group (facts.stiff_groups): its block of A, the factor, the inverse.
+  std::vector<Eigen::MatrixXd> group_A, group_inverse;
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> group_llt;
   Eigen::VectorXd rhs, vk, vfree, vnew;
   Eigen::VectorXd gyro_impulse;  // free velocity: backward-Euler gyroscopic impulses
   Eigen::VectorXd dq;            // projection: the displacement of a pass
