@@ -7,7 +7,7 @@ add_library(nscd_sweep_core STATIC
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/sweep_grid.cpp
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/stress_cases.cpp)
 target_include_directories(nscd_sweep_core PUBLIC ${PROJECT_SOURCE_DIR}/src/nscd_sweep)
-target_link_libraries(nscd_sweep_core PUBLIC nscd_engine)
+target_link_libraries(nscd_sweep_core PUBLIC nscd_engine nscd_run_output)
 target_compile_options(nscd_sweep_core PRIVATE -Wall -Wextra)
 set_target_properties(nscd_sweep_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
