@@ -30,6 +30,7 @@ install(TARGETS nscd_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION}
 function(nscd_sweep_link_tests)
   if(TARGET test_stress_short)
     target_link_libraries(test_stress_short nscd_sweep_core Threads::Threads)
+    add_dependencies(test_stress_short nscd_sweep)  # runs the tool (sweep over scenes, series)
   endif()
 endfunction()
 cmake_language(DEFER CALL nscd_sweep_link_tests)
