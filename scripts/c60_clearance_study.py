@@ -29,9 +29,9 @@ PYTHONPATH, the built module, and OUT on a shared file system) or
 `--local-cluster` (a Dask LocalCluster of --jobs workers on this machine); `cli`:
 each run is an `nscd_run` process, --jobs at a time; `sweep`: the trips in one
 `nscd_sweep --scenes ... --command PROBE --series DIR --every 1` call and the benches
-in another, on --jobs threads, then every figure computed from the series CSVs
+in another, on --jobs threads; every figure is computed from the series CSVs
 (nscd_run's --csv format) by the same functions as the cli backend, in --jobs
-processes. `--shard i/n` is passed to nscd_sweep: its run k is the k-th selected
+processes (the trips' while the benches run). `--shard i/n` is passed to nscd_sweep: its run k is the k-th selected
 case (CASES order, --cases applied first), so without --cases a shard runs the same
 cases as with the other backends; shards of one OUT may run at once (each writes the
 scene files atomically, and only its own runs' series and study_CASE.json). The
@@ -244,64 +244,84 @@ def run_module(cases, a):
     return failed
 
 
-def sweep_case_results(case, k, out):
-    """The sweep backend: case (run k of both sweeps) from its series and JSON lines, as
-    run_case() gets it from nscd_run; removes the series. Runs in a worker process."""
-    res = case_header(case)
-    wall = 0.0
-    for kind in ('trip', 'bench'):
-        stem = os.path.join(out, 'sweep_' + kind, 'run_%d' % k)
-        with open(stem + '.json') as f:
-            run = json.loads(f.read().strip())
-        d = c60_plot.load(stem + '.csv')
-        res.update(trip_figures(d) if kind == 'trip' else bench_figures(d))
-        res[kind + '_run'] = {q: run[q] for q in RUN_KEYS}
-        wall += run['wall_s']
-        os.remove(stem + '.csv')
-        os.remove(stem + '.json')
-    res['wall_s'] = wall
-    with open(os.path.join(out, 'study_%s.json' % case[0]), 'w') as f:
-        json.dump(res, f, indent=1)
-    return res
+def sweep_run_results(kind, k, out):
+    """The sweep backend: run k's figures and statistics from its series and JSON line,
+    as run_case() gets them from nscd_run; removes both files. Runs in a worker process."""
+    stem = os.path.join(out, 'sweep_' + kind, 'run_%d' % k)
+    with open(stem + '.json') as f:
+        run = json.loads(f.read().strip())
+    d = c60_plot.load(stem + '.csv')
+    figs = trip_figures(d) if kind == 'trip' else bench_figures(d)
+    os.remove(stem + '.csv')
+    os.remove(stem + '.json')
+    return figs, {q: run[q] for q in RUN_KEYS}
 
 
 def run_sweep(selected, a):
     """The sweep backend: the trips of every selected case in one nscd_sweep call (this
-    shard of them), the benches in another; then the figures. Returns the failed runs."""
+    shard of them), the benches in another, the trips' figures computed while the
+    benches run; then each case's study_CASE.json. Returns the failed runs."""
     exe, table = nscd_sweep(), table_command()
     scenes = [write_scenes(c, a.out) for c in selected]
     i, n = (int(v) for v in a.shard.split('/'))
     mine = [k for k in range(len(selected)) if k % n == i]
-    failed, status = [], {}
-    for kind, duration, command in (('trip', TRIP_DURATION, PROBE), ('bench', BENCH_DURATION, table)):
-        stats = os.path.join(a.out, 'sweep_%s_shard%dof%d.csv' % (kind, i, n))
+    t0 = time.time()
+    errors, results = {}, {}  # (kind, k) -> message / (figures, run statistics)
+
+    def start(kind, duration, command):
         print('study: %d %s runs through nscd_sweep (shard %s, %d threads)' % (len(mine), kind, a.shard, a.jobs),
               file=sys.stderr, flush=True)
-        r = subprocess.run([exe, '--scenes'] + [p[kind] for p in scenes] +
-                           ['--command', command, '--duration', repr(duration), '--series',
-                            os.path.join(a.out, 'sweep_' + kind), '--every', '1', '--jobs', str(a.jobs),
-                            '--shard', a.shard, '--csv', stats, '--progress'])
-        if r.returncode != 0:
-            sys.exit('nscd_sweep failed (status %d) for the %ss' % (r.returncode, kind))
+        stats = os.path.join(a.out, 'sweep_%s_shard%dof%d.csv' % (kind, i, n))
+        proc = subprocess.Popen([exe, '--scenes'] + [p[kind] for p in scenes] +
+                                ['--command', command, '--duration', repr(duration), '--series',
+                                 os.path.join(a.out, 'sweep_' + kind), '--every', '1', '--jobs', str(a.jobs),
+                                 '--shard', a.shard, '--csv', stats, '--progress'])
+        return kind, proc, stats
+
+    def finish(started, pool):
+        kind, proc, stats = started
+        if proc.wait() != 0:
+            sys.exit('nscd_sweep failed (status %d) for the %s runs' % (proc.returncode, kind))
         with open(stats) as f:
-            rows = list(csvlib.DictReader(f))
-        for row in rows:
-            k = int(row['run'])
-            if row['status'] != 'ok':
-                status.setdefault(k, '%s %s: %s' % (selected[k][0], kind, row['status']))
-    todo = [k for k in mine if k not in status]
-    failed += [status[k] for k in mine if k in status]
-    t0 = time.time()
+            for row in csvlib.DictReader(f):
+                k = int(row['run'])
+                if row['status'] != 'ok':
+                    errors[kind, k] = row['status']
+                else:
+                    fut = pool.submit(sweep_run_results, kind, k, a.out)
+                    futs[fut] = (kind, k)
+                    fut.add_done_callback(lambda fut, kind=kind, k=k: report(fut, kind, k))
+
+    def report(fut, kind, k):  # progress as each run's figures are done (while the benches may still run)
+        e = fut.exception()
+        print('study: %s %s: %s (%.0f s elapsed)' % (selected[k][0], kind, 'figures' if e is None else 'FAILED: %s' % e,
+                                                     time.time() - t0), file=sys.stderr, flush=True)
+
+    futs = {}
     with cf.ProcessPoolExecutor(max_workers=a.jobs) as pool:
-        futs = {pool.submit(sweep_case_results, selected[k], k, a.out): selected[k][0] for k in todo}
-        for done, fut in enumerate(cf.as_completed(futs), 1):
+        finish(start('trip', TRIP_DURATION, PROBE), pool)
+        finish(start('bench', BENCH_DURATION, table), pool)  # the trips' figures meanwhile
+        for fut in cf.as_completed(list(futs)):
+            kind, k = futs[fut]
             try:
-                fut.result()
-                print('[%d/%d] %s: figures (%.0f s elapsed)' % (done, len(todo), futs[fut], time.time() - t0),
-                      file=sys.stderr, flush=True)
+                results[kind, k] = fut.result()
             except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
-                failed.append(futs[fut])
-                print('[%d/%d] %s FAILED: %s' % (done, len(todo), futs[fut], e), file=sys.stderr, flush=True)
+                errors[kind, k] = str(e)
+    failed = []
+    for k in mine:
+        c = selected[k]
+        bad = ['%s %s: %s' % (c[0], kind, errors[kind, k]) for kind in ('trip', 'bench') if (kind, k) in errors]
+        if bad:
+            failed += bad
+            continue
+        res = case_header(c)
+        for kind in ('trip', 'bench'):
+            figs, run = results[kind, k]
+            res.update(figs)
+            res[kind + '_run'] = run
+        res['wall_s'] = res['trip_run']['wall_s'] + res['bench_run']['wall_s']
+        with open(os.path.join(a.out, 'study_%s.json' % c[0]), 'w') as f:
+            json.dump(res, f, indent=1)
     for kind in ('trip', 'bench'):
         try:
             os.rmdir(os.path.join(a.out, 'sweep_' + kind))  # empty unless a run failed or a shard still runs
