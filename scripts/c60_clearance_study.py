@@ -31,7 +31,7 @@ each run is an `nscd_run` process, --jobs at a time; `sweep`: the trips in one
 `nscd_sweep --scenes ... --command PROBE --series DIR --every 1` call and the benches
 in another, on --jobs threads; every figure is computed from the series CSVs
 (nscd_run's --csv format) by the same functions as the cli backend, in --jobs
-processes (the trips' while the benches run). `--shard i/n` is passed to nscd_sweep: its run k is the k-th selected
+processes, each run's as soon as nscd_sweep reports it done. `--shard i/n` is passed to nscd_sweep: its run k is the k-th selected
 case (CASES order, --cases applied first), so without --cases a shard runs the same
 cases as with the other backends; shards of one OUT may run at once (each writes the
 scene files atomically, and only its own runs' series and study_CASE.json). The
@@ -45,6 +45,7 @@ import csv as csvlib
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -259,54 +260,61 @@ def sweep_run_results(kind, k, out):
 
 def run_sweep(selected, a):
     """The sweep backend: the trips of every selected case in one nscd_sweep call (this
-    shard of them), the benches in another, the trips' figures computed while the
-    benches run; then each case's study_CASE.json. Returns the failed runs."""
+    shard of them), the benches in another; each run's figures computed in a worker as
+    soon as nscd_sweep reports the run done (its --progress line), so the figures of
+    the first runs overlap the later runs; then each case's study_CASE.json. Returns
+    the failed runs."""
     exe, table = nscd_sweep(), table_command()
     scenes = [write_scenes(c, a.out) for c in selected]
     i, n = (int(v) for v in a.shard.split('/'))
     mine = [k for k in range(len(selected)) if k % n == i]
     t0 = time.time()
-    errors, results = {}, {}  # (kind, k) -> message / (figures, run statistics)
+    errors, results, futs = {}, {}, {}  # (kind, k) -> message / (figures, run statistics) / future
+    done_line = re.compile(r': run (\d+) \(.*\) ok in ')
 
-    def start(kind, duration, command):
+    def report(fut, kind, k):  # progress as each run's figures are done
+        e = fut.exception()
+        print('study: %s %s: %s (%.0f s elapsed)' % (selected[k][0], kind, 'figures' if e is None else 'FAILED: %s' % e,
+                                                     time.time() - t0), file=sys.stderr, flush=True)
+
+    def submit(pool, kind, k):
+        if (kind, k) in futs:
+            return
+        fut = futs[kind, k] = pool.submit(sweep_run_results, kind, k, a.out)
+        fut.add_done_callback(lambda fut: report(fut, kind, k))
+
+    def run(pool, kind, duration, command):
         print('study: %d %s runs through nscd_sweep (shard %s, %d threads)' % (len(mine), kind, a.shard, a.jobs),
               file=sys.stderr, flush=True)
         stats = os.path.join(a.out, 'sweep_%s_shard%dof%d.csv' % (kind, i, n))
         proc = subprocess.Popen([exe, '--scenes'] + [p[kind] for p in scenes] +
                                 ['--command', command, '--duration', repr(duration), '--series',
                                  os.path.join(a.out, 'sweep_' + kind), '--every', '1', '--jobs', str(a.jobs),
-                                 '--shard', a.shard, '--csv', stats, '--progress'])
-        return kind, proc, stats
-
-    def finish(started, pool):
-        kind, proc, stats = started
+                                 '--shard', a.shard, '--csv', stats, '--progress'],
+                                stderr=subprocess.PIPE, text=True)
+        for line in proc.stderr:  # nscd_sweep's progress, passed on; a finished run's series is complete
+            sys.stderr.write(line)
+            sys.stderr.flush()
+            m = done_line.search(line)
+            if m:
+                submit(pool, kind, int(m.group(1)))
         if proc.wait() != 0:
             sys.exit('nscd_sweep failed (status %d) for the %s runs' % (proc.returncode, kind))
-        with open(stats) as f:
+        with open(stats) as f:  # the statuses (and any run whose line was missed)
             for row in csvlib.DictReader(f):
-                k = int(row['run'])
                 if row['status'] != 'ok':
-                    errors[kind, k] = row['status']
+                    errors[kind, int(row['run'])] = row['status']
                 else:
-                    fut = pool.submit(sweep_run_results, kind, k, a.out)
-                    futs[fut] = (kind, k)
-                    fut.add_done_callback(lambda fut, kind=kind, k=k: report(fut, kind, k))
+                    submit(pool, kind, int(row['run']))
 
-    def report(fut, kind, k):  # progress as each run's figures are done (while the benches may still run)
-        e = fut.exception()
-        print('study: %s %s: %s (%.0f s elapsed)' % (selected[k][0], kind, 'figures' if e is None else 'FAILED: %s' % e,
-                                                     time.time() - t0), file=sys.stderr, flush=True)
-
-    futs = {}
     with cf.ProcessPoolExecutor(max_workers=a.jobs) as pool:
-        finish(start('trip', TRIP_DURATION, PROBE), pool)
-        finish(start('bench', BENCH_DURATION, table), pool)  # the trips' figures meanwhile
-        for fut in cf.as_completed(list(futs)):
-            kind, k = futs[fut]
+        run(pool, 'trip', TRIP_DURATION, PROBE)
+        run(pool, 'bench', BENCH_DURATION, table)
+        for key, fut in futs.items():
             try:
-                results[kind, k] = fut.result()
+                results[key] = fut.result()
             except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
-                errors[kind, k] = str(e)
+                errors[key] = str(e)
     failed = []
     for k in mine:
         c = selected[k]
@@ -316,9 +324,9 @@ def run_sweep(selected, a):
             continue
         res = case_header(c)
         for kind in ('trip', 'bench'):
-            figs, run = results[kind, k]
+            figs, stats = results[kind, k]
             res.update(figs)
-            res[kind + '_run'] = run
+            res[kind + '_run'] = stats
         res['wall_s'] = res['trip_run']['wall_s'] + res['bench_run']['wall_s']
         with open(os.path.join(a.out, 'study_%s.json' % c[0]), 'w') as f:
             json.dump(res, f, indent=1)
