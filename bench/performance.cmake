@@ -7,7 +7,7 @@ add_library(nscd_sweep_core STATIC
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/sweep_grid.cpp
   ${PROJECT_SOURCE_DIR}/src/nscd_sweep/stress_cases.cpp)
 target_include_directories(nscd_sweep_core PUBLIC ${PROJECT_SOURCE_DIR}/src/nscd_sweep)
-target_link_libraries(nscd_sweep_core PUBLIC nscd_engine)
+target_link_libraries(nscd_sweep_core PUBLIC nscd_engine nscd_run_output)
 target_compile_options(nscd_sweep_core PRIVATE -Wall -Wextra)
 set_target_properties(nscd_sweep_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
@@ -30,6 +30,7 @@ install(TARGETS nscd_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION}
 function(nscd_sweep_link_tests)
   if(TARGET test_stress_short)
     target_link_libraries(test_stress_short nscd_sweep_core Threads::Threads)
+    add_dependencies(test_stress_short nscd_sweep)  # runs the tool (sweep over scenes, series)
   endif()
 endfunction()
 cmake_language(DEFER CALL nscd_sweep_link_tests)

@@ -3,7 +3,7 @@
 journals' initial positions change the breaker.
 
   c60_clearance_study.py [run] [--jobs N] [--shard i/n] [--out DIR] [--cases a,b,c]
-                         [--backend module|cli] [--scheduler ADDR | --local-cluster]
+                         [--backend module|cli|sweep] [--scheduler ADDR | --local-cluster]
   c60_clearance_study.py report [--out DIR] [--doc docs/c60_clearance_study.md]
   c60_clearance_study.py list
 
@@ -27,14 +27,25 @@ Backends: `module` (default when the Python module is built): the runs go throug
 `--scheduler tcp://HOST:8786` (its workers need this repository's scripts/ on
 PYTHONPATH, the built module, and OUT on a shared file system) or
 `--local-cluster` (a Dask LocalCluster of --jobs workers on this machine); `cli`:
-each run is an `nscd_run` process, --jobs at a time. The figures are the same
-either way, up to the CSV's 12 significant digits that the cli backend reads back.
+each run is an `nscd_run` process, --jobs at a time; `sweep`: the trips in one
+`nscd_sweep --scenes ... --command PROBE --series DIR --every 1` call and the benches
+in another, on --jobs threads; every figure is computed from the series CSVs
+(nscd_run's --csv format) by the same functions as the cli backend, in --jobs
+processes, each run's as soon as nscd_sweep reports it done. `--shard i/n` is passed to nscd_sweep: its run k is the k-th selected
+case (CASES order, --cases applied first), so without --cases a shard runs the same
+cases as with the other backends; shards of one OUT may run at once (each writes the
+scene files atomically, and only its own runs' series and study_CASE.json). The
+sweep backend finds nscd_sweep beside nscd_run (or set NSCD_SWEEP). The figures are
+the same whatever the backend, up to the CSV's 12 significant digits that the cli
+and sweep backends read back (those two agree to the last digit).
 """
 import argparse
 import concurrent.futures as cf
+import csv as csvlib
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import time
@@ -74,6 +85,13 @@ def nscd_run():
     exe = os.environ.get('NSCD_RUN', os.path.join(REPO, '.build/ws/devel/lib/nscd_sim/nscd_run'))
     if not os.path.exists(exe):
         sys.exit('nscd_run not found at %s: run scripts/build.sh first (or set NSCD_RUN)' % exe)
+    return exe
+
+
+def nscd_sweep():
+    exe = os.environ.get('NSCD_SWEEP') or os.path.join(os.path.dirname(nscd_run()), 'nscd_sweep')
+    if not os.path.exists(exe):
+        sys.exit('nscd_sweep not found at %s: run scripts/build.sh first (or set NSCD_SWEEP)' % exe)
     return exe
 
 
@@ -141,8 +159,11 @@ def write_scenes(case, out):
     paths = {}
     for kind in ('trip', 'bench'):
         paths[kind] = os.path.join(out, 'study_%s_%s.urdf' % (name, kind))
-        with open(paths[kind], 'w') as f:
+        # Atomically: sweep shards of one OUT write the same files and read them at once.
+        tmp = '%s.%d.tmp' % (paths[kind], os.getpid())
+        with open(tmp, 'w') as f:
             f.write(c60_scene.build(bench=kind == 'bench', **kw))
+        os.replace(tmp, paths[kind])
     return paths
 
 
@@ -224,21 +245,120 @@ def run_module(cases, a):
     return failed
 
 
+def sweep_run_results(kind, k, out):
+    """The sweep backend: run k's figures and statistics from its series and JSON line,
+    as run_case() gets them from nscd_run; removes both files. Runs in a worker process."""
+    stem = os.path.join(out, 'sweep_' + kind, 'run_%d' % k)
+    with open(stem + '.json') as f:
+        run = json.loads(f.read().strip())
+    d = c60_plot.load(stem + '.csv')
+    figs = trip_figures(d) if kind == 'trip' else bench_figures(d)
+    os.remove(stem + '.csv')
+    os.remove(stem + '.json')
+    return figs, {q: run[q] for q in RUN_KEYS}
+
+
+def run_sweep(selected, a):
+    """The sweep backend: the trips of every selected case in one nscd_sweep call (this
+    shard of them), the benches in another; each run's figures computed in a worker as
+    soon as nscd_sweep reports the run done (its --progress line), so the figures of
+    the first runs overlap the later runs; then each case's study_CASE.json. Returns
+    the failed runs."""
+    exe, table = nscd_sweep(), table_command()
+    scenes = [write_scenes(c, a.out) for c in selected]
+    i, n = (int(v) for v in a.shard.split('/'))
+    mine = [k for k in range(len(selected)) if k % n == i]
+    t0 = time.time()
+    errors, results, futs = {}, {}, {}  # (kind, k) -> message / (figures, run statistics) / future
+    done_line = re.compile(r': run (\d+) \(.*\) ok in ')
+
+    def report(fut, kind, k):  # progress as each run's figures are done
+        e = fut.exception()
+        print('study: %s %s: %s (%.0f s elapsed)' % (selected[k][0], kind, 'figures' if e is None else 'FAILED: %s' % e,
+                                                     time.time() - t0), file=sys.stderr, flush=True)
+
+    def submit(pool, kind, k):
+        if (kind, k) in futs:
+            return
+        fut = futs[kind, k] = pool.submit(sweep_run_results, kind, k, a.out)
+        fut.add_done_callback(lambda fut: report(fut, kind, k))
+
+    def run(pool, kind, duration, command):
+        print('study: %d %s runs through nscd_sweep (shard %s, %d threads)' % (len(mine), kind, a.shard, a.jobs),
+              file=sys.stderr, flush=True)
+        stats = os.path.join(a.out, 'sweep_%s_shard%dof%d.csv' % (kind, i, n))
+        proc = subprocess.Popen([exe, '--scenes'] + [p[kind] for p in scenes] +
+                                ['--command', command, '--duration', repr(duration), '--series',
+                                 os.path.join(a.out, 'sweep_' + kind), '--every', '1', '--jobs', str(a.jobs),
+                                 '--shard', a.shard, '--csv', stats, '--progress'],
+                                stderr=subprocess.PIPE, text=True)
+        for line in proc.stderr:  # nscd_sweep's progress, passed on; a finished run's series is complete
+            sys.stderr.write(line)
+            sys.stderr.flush()
+            m = done_line.search(line)
+            if m:
+                submit(pool, kind, int(m.group(1)))
+        if proc.wait() != 0:
+            sys.exit('nscd_sweep failed (status %d) for the %s runs' % (proc.returncode, kind))
+        with open(stats) as f:  # the statuses (and any run whose line was missed)
+            for row in csvlib.DictReader(f):
+                if row['status'] != 'ok':
+                    errors[kind, int(row['run'])] = row['status']
+                else:
+                    submit(pool, kind, int(row['run']))
+
+    with cf.ProcessPoolExecutor(max_workers=a.jobs) as pool:
+        run(pool, 'trip', TRIP_DURATION, PROBE)
+        run(pool, 'bench', BENCH_DURATION, table)
+        for key, fut in futs.items():
+            try:
+                results[key] = fut.result()
+            except Exception as e:  # noqa: BLE001  (a failed case is reported, the others go on)
+                errors[key] = str(e)
+    failed = []
+    for k in mine:
+        c = selected[k]
+        bad = ['%s %s: %s' % (c[0], kind, errors[kind, k]) for kind in ('trip', 'bench') if (kind, k) in errors]
+        if bad:
+            failed += bad
+            continue
+        res = case_header(c)
+        for kind in ('trip', 'bench'):
+            figs, stats = results[kind, k]
+            res.update(figs)
+            res[kind + '_run'] = stats
+        res['wall_s'] = res['trip_run']['wall_s'] + res['bench_run']['wall_s']
+        with open(os.path.join(a.out, 'study_%s.json' % c[0]), 'w') as f:
+            json.dump(res, f, indent=1)
+    for kind in ('trip', 'bench'):
+        try:
+            os.rmdir(os.path.join(a.out, 'sweep_' + kind))  # empty unless a run failed or a shard still runs
+        except OSError:
+            pass
+    return failed
+
+
 def do_run(a):
     i, n = (int(v) for v in a.shard.split('/'))
     if not (n >= 1 and 0 <= i < n):
         sys.exit('--shard must be i/n with 0 <= i < n, got %s' % a.shard)
     cases = [c for k, c in enumerate(CASES) if k % n == i]
+    selected = CASES
     if a.cases:
         want = set(a.cases.split(','))
         unknown = want - {c[0] for c in CASES}
         if unknown:
             sys.exit('unknown case(s): %s (see: c60_clearance_study.py list)' % ', '.join(sorted(unknown)))
         cases = [c for c in cases if c[0] in want]
+        selected = [c for c in CASES if c[0] in want]
+    if a.backend == 'sweep':  # nscd_sweep shards the selected cases (see the help)
+        cases = [c for k, c in enumerate(selected) if k % n == i]
     os.makedirs(a.out, exist_ok=True)
     t0 = time.time()
     failed = []
-    if a.backend == 'module':
+    if a.backend == 'sweep':
+        failed = run_sweep(selected, a)
+    elif a.backend == 'module':
         print('study: %d cases (%d runs) through nscd_sim.study on %s' % (
             len(cases), 2 * len(cases), a.scheduler or ('a LocalCluster of %d workers' % a.jobs if a.local_cluster
                                                         else '%d processes' % a.jobs)), file=sys.stderr, flush=True)
@@ -445,8 +565,9 @@ def main():
     ap.add_argument('--cases', help='comma-separated case names (default: all of the shard)')
     ap.add_argument('--out', default=os.path.join(REPO, 'out', 'clearance_study'))
     ap.add_argument('--doc', default=os.path.join(REPO, 'docs', 'c60_clearance_study.md'))
-    ap.add_argument('--backend', choices=['module', 'cli'], default=None,
-                    help='module (nscd_sim.study; default when the module imports) or cli (nscd_run)')
+    ap.add_argument('--backend', choices=['module', 'cli', 'sweep'], default=None,
+                    help='module (nscd_sim.study; default when the module imports), cli (nscd_run '
+                         'processes) or sweep (two nscd_sweep calls, --shard passed through)')
     ap.add_argument('--scheduler', help='module backend: a Dask scheduler address (tcp://HOST:8786)')
     ap.add_argument('--local-cluster', action='store_true', help='module backend: a Dask LocalCluster of --jobs workers')
     a = ap.parse_args()
@@ -458,7 +579,7 @@ def main():
             a.backend = 'module'
         except ImportError:
             a.backend = 'cli'
-    if a.backend == 'cli' and (a.scheduler or a.local_cluster):
+    if a.backend in ('cli', 'sweep') and (a.scheduler or a.local_cluster):
         sys.exit('--scheduler and --local-cluster need the module backend')
     if a.command == 'list':
         for k, c in enumerate(CASES):

@@ -1,9 +1,13 @@
 // The short stress suite (the long one is scripts/stress.sh): randomised
 // clearance pendulums must not blow up, penetrate more than 1% of the clearance,
 // or gain energy; reruns must be bit-identical whatever the thread count. Also the
-// sweep runner's grid, shards and merge.
+// sweep runner's grid, shards and merge, and the nscd_sweep tool over several
+// scenes with actuator schedules and per-run time series (--scenes, --command,
+// --series), checked against nscd_run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -18,6 +22,7 @@
 #include "../src/nscd_sweep/sweep_grid.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -229,6 +234,179 @@ TEST(SweepGrid, AxesShardsAndMerge) {
   std::ostringstream out2, log2;
   mergeCsv({files[0], files[1]}, out2, log2);
   EXPECT_NE(log2.str().find("missing"), std::string::npos);
+}
+
+// ------------------------------------------------------------ nscd_sweep --scenes
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// urdf/clearance_pendulum.urdf with a torque actuator "spin" about the hinge, its
+// radial clearance and start angle changed.
+std::string spinPendulum(const std::string& radial, const std::string& angle) {
+  std::string u = slurp(nscd_test::scenePath("urdf/clearance_pendulum.urdf"));
+  auto replace = [&](const std::string& a, const std::string& b) {
+    const size_t at = u.find(a);
+    if (at == std::string::npos) throw std::runtime_error("clearance_pendulum.urdf: no " + a);
+    u.replace(at, a.size(), b);
+  };
+  replace("radial=\"50e-6\"", "radial=\"" + radial + "\"");
+  replace("position=\"0.5235987755982988\"", "position=\"" + angle + "\"");
+  replace("<simulation", "<actuator name=\"spin\" type=\"torque\" link=\"arm\" axis=\"0 1 0\"/>\n    <simulation");
+  return u;
+}
+
+// A fresh empty folder under the test temp dir.
+std::string freshDir(const std::string& name) {
+  const std::string d = testing::TempDir() + "nscd_sweep_" + name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+const char* kSpin = "spin=0:0,0.005:0.02,0.01:-0.01,0.015:0";
+
+// The JSON line without its wall-clock fields (wall_s, rtf).
+std::string withoutTiming(std::string json) {
+  for (const char* key : {"\"wall_s\":", "\"rtf\":"}) {
+    const size_t at = json.find(key);
+    if (at == std::string::npos) return "no " + std::string(key) + " in " + json;
+    json.erase(at, json.find(',', at) + 1 - at);
+  }
+  while (!json.empty() && (json.back() == '\n' || json.back() == '\r')) json.pop_back();
+  return json;
+}
+
+// Two scenes, one schedule: every run's series is nscd_run's --csv of the same
+// scene and command byte for byte, and its JSON line nscd_run's (timing aside).
+TEST(SweepScenes, SeriesAreNscdRunsCsv) {
+  const std::string a = nscd_test::writeTemp(spinPendulum("50e-6", "0.5235987755982988"));
+  const std::string b = nscd_test::writeTemp(spinPendulum("20e-6", "0.2"));
+  const std::string dir = freshDir("series");
+  const std::string common = std::string(" --command ") + kSpin + " --duration 0.02";
+  const nscd_test::RunResult sw = nscd_test::runProgram(
+      nscd_test::toolExe("nscd_sweep"),
+      "--scenes " + a + " " + b + common + " --series " + dir + "/s --every 7 --jobs 2 --no-timing --quiet");
+  ASSERT_EQ(sw.status, 0) << sw.err;
+  const std::vector<std::string> rows = lines(sw.out);
+  ASSERT_EQ(rows.size(), 3u) << sw.out;
+  EXPECT_EQ(rows[0].rfind("run,runs,scene,status,steps,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("0,2," + a + ",ok,2000,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("1,2," + b + ",ok,2000,", 0), 0u) << rows[2];
+  std::string series[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string scene = k == 0 ? a : b, csv = dir + "/cli" + std::to_string(k) + ".csv";
+    const nscd_test::RunResult run = nscd_test::runNscd(scene + common + " --csv " + csv + " --every 7 --quiet");
+    ASSERT_EQ(run.status, 0) << run.err;
+    series[k] = slurp(dir + "/s/run_" + std::to_string(k) + ".csv");
+    const std::string cli = slurp(csv);
+    ASSERT_GT(cli.size(), 1000u);
+    EXPECT_EQ(series[k], cli) << "run " << k << ": the series differs from nscd_run --csv";
+    EXPECT_EQ(withoutTiming(slurp(dir + "/s/run_" + std::to_string(k) + ".json")), withoutTiming(run.out));
+  }
+  EXPECT_NE(series[0], series[1]);
+  // The schedule was applied: the spin.cmd column follows it (up to 0.02 N m, at 5
+  // ms; rows every 7 steps miss that instant by at most 3.5 steps of the ramp).
+  const std::vector<std::string> s0 = lines(series[0]);
+  ASSERT_EQ(s0.size(), 1u + 1u + 2000u / 7u);
+  std::istringstream head(s0[0]);
+  int col = -1, c = 0;
+  for (std::string name; std::getline(head, name, ','); ++c)
+    if (name == "spin.cmd") col = c;
+  ASSERT_GE(col, 0) << s0[0];
+  double cmd_max = 0;
+  for (size_t i = 1; i < s0.size(); ++i) {
+    std::istringstream row(s0[i]);
+    std::string v;
+    for (int j = 0; j <= col; ++j) std::getline(row, v, ',');
+    cmd_max = std::max(cmd_max, std::stod(v));
+  }
+  EXPECT_GT(cmd_max, 0.019);
+  EXPECT_LE(cmd_max, 0.02);
+}
+
+// Scenes x a parameter axis, in two shards merged: the unsharded CSV byte for
+// byte, and the series the shards write are the unsharded run's.
+TEST(SweepScenes, ShardsMergeToTheWholeSweep) {
+  const std::string a = nscd_test::writeTemp(spinPendulum("50e-6", "0.5"));
+  const std::string b = nscd_test::writeTemp(spinPendulum("30e-6", "0.3"));
+  const std::string dir = freshDir("shards");
+  const std::string sweep = nscd_test::toolExe("nscd_sweep");
+  const std::string args = "--scenes " + a + " " + b + " --param mu=0,0.3 --command " + kSpin +
+                           " --duration 0.01 --no-timing --quiet";
+  const nscd_test::RunResult whole = nscd_test::runProgram(sweep, args + " --every 5 --series " + dir + "/whole");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  const std::vector<std::string> rows = lines(whole.out);
+  ASSERT_EQ(rows.size(), 5u) << whole.out;
+  EXPECT_EQ(rows[0].rfind("run,runs,scene,mu,status,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[3].rfind("2,4," + b + ",0,ok,", 0), 0u) << rows[3];  // scene slowest
+  for (int s = 0; s < 2; ++s) {
+    const std::string shard = std::to_string(s) + "/2", csv = dir + "/shard" + std::to_string(s) + ".csv";
+    const nscd_test::RunResult r = nscd_test::runProgram(
+        sweep, args + " --shard " + shard + " --jobs 2 --every 5 --series " + dir + "/sharded --csv " + csv);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(lines(slurp(csv)).size(), 3u);
+  }
+  const nscd_test::RunResult merged =
+      nscd_test::runProgram(sweep, "--merge " + dir + "/shard0.csv " + dir + "/shard1.csv --quiet");
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  EXPECT_EQ(merged.out, whole.out);
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = "/run_" + std::to_string(k) + ".csv";
+    const std::string w = slurp(dir + "/whole" + name);
+    EXPECT_GT(w.size(), 1000u) << name;
+    EXPECT_EQ(slurp(dir + "/sharded" + name), w) << name;
+  }
+  EXPECT_NE(slurp(dir + "/whole/run_0.csv"), slurp(dir + "/whole/run_1.csv"));  // mu applied
+  // --list names the scene of each run of the shard, runs nothing.
+  const nscd_test::RunResult list = nscd_test::runProgram(sweep, args + " --shard 1/2 --list");
+  ASSERT_EQ(list.status, 0) << list.err;
+  EXPECT_EQ(list.out, "run,runs,scene,mu\n1,4," + a + ",0.3\n3,4," + b + ",0.3\n");
+  // One scene without --scenes: the former columns, no scene column.
+  const nscd_test::RunResult one = nscd_test::runProgram(sweep, a + " --param mu=0,0.3 --list");
+  EXPECT_EQ(one.out, "run,runs,mu\n0,2,0\n1,2,0.3\n");
+}
+
+// Bad input: one message naming the bad scene file or the unknown actuator,
+// status 2, nothing run (no series written).
+TEST(SweepScenes, BadSceneOrActuatorIsRefusedBeforeRunning) {
+  const std::string good = nscd_test::writeTemp(spinPendulum("50e-6", "0.5"));
+  const std::string broken = nscd_test::writeTemp("<robot name=\"x\"><link name=\"a\"></robot>");
+  const std::string missing = testing::TempDir() + "nscd_sweep_no_such_scene.urdf";
+  const std::string dir = freshDir("bad");
+  const std::string sweep = nscd_test::toolExe("nscd_sweep");
+  for (const std::string& bad : {broken, missing}) {
+    const nscd_test::RunResult r = nscd_test::runProgram(
+        sweep, "--scenes " + good + " " + bad + " --duration 0.01 --series " + dir + " --quiet");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find(bad), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+  const nscd_test::RunResult r = nscd_test::runProgram(
+      sweep, "--scenes " + good + " --command nope=0:1 --duration 0.01 --series " + dir + " --quiet");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("no actuator 'nope' (actuators: spin)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(good), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_TRUE(std::filesystem::is_empty(dir)) << "a run started despite the bad input";
+  const nscd_test::RunResult both = nscd_test::runProgram(sweep, good + " --scenes " + good + " --quiet");
+  EXPECT_EQ(both.status, 2);
+  EXPECT_NE(both.err.find("not both"), std::string::npos) << both.err;
+  const nscd_test::RunResult every = nscd_test::runProgram(sweep, good + " --every 5 --quiet");
+  EXPECT_EQ(every.status, 2);
+  EXPECT_NE(every.err.find("--every needs --series"), std::string::npos) << every.err;
 }
 
 }  // namespace

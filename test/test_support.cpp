@@ -37,7 +37,14 @@ static std::string slurp(const std::string& path) {
   return s.str();
 }
 
-RunResult runNscd(const std::string& args) {
+RunResult runNscd(const std::string& args) { return runProgram(runExe(), args); }
+
+std::string toolExe(const std::string& name) {
+  const std::string run = runExe();
+  return run.substr(0, run.rfind('/') + 1) + name;
+}
+
+RunResult runProgram(const std::string& exe, const std::string& args) {
   char out_tmpl[] = "/tmp/nscd_test_outXXXXXX";
   char err_tmpl[] = "/tmp/nscd_test_errXXXXXX";
   int fo = mkstemp(out_tmpl);
@@ -45,7 +52,7 @@ RunResult runNscd(const std::string& args) {
   if (fo < 0 || fe < 0) throw std::runtime_error("mkstemp failed");
   close(fo);
   close(fe);
-  std::string cmd = runExe() + " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
+  std::string cmd = exe + " " + args + " >" + out_tmpl + " 2>" + err_tmpl;
   int rc = std::system(cmd.c_str());
   RunResult r;
   r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;

@@ -16,6 +16,10 @@ struct RunResult {
 };
 // Runs nscd_run with the given argument string (shell-quoted by the caller).
 RunResult runNscd(const std::string& args);
+// Runs another program the same way (e.g. toolExe("nscd_sweep")).
+RunResult runProgram(const std::string& exe, const std::string& args);
+// Path of a tool built beside nscd_run (same devel bin folder).
+std::string toolExe(const std::string& name);
 
 // Heap allocations (global operator new calls) since the test program
 // started: test_support.cpp replaces operator new in every unit test with one

@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include "csv_writer.hpp"
+#include "run_summary.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/problem_file.hpp"
 #include "nscd_sim/scene_loader.hpp"
@@ -57,13 +58,6 @@ class ProgressBar {
   double duration_;
   double last_ = -1;
 };
-
-std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 }  // namespace
 
@@ -198,18 +192,19 @@ int main(int argc, char** argv) {
   const double wall_s = wall();
   progress.finish(sim->state().t, wall_s);
   if (!dump_dir.empty()) std::cerr << "nscd_run: " << dumped << " problems written to " << dump_dir << std::endl;
-  const long done = status == 0 ? steps : k;
-  const double sim_time = sim->state().t;
-  std::cout << "{\"steps\":" << done << ",\"sim_time\":" << jsonNumber(sim_time)
-            << ",\"wall_s\":" << jsonNumber(wall_s)
-            << ",\"rtf\":" << jsonNumber(wall_s > 0 ? sim_time / wall_s : 0.0)
-            << ",\"iters_mean\":" << jsonNumber(done > 0 ? double(iters_sum) / done : 0.0)
-            << ",\"iters_max\":" << iters_max << ",\"residual_max\":" << jsonNumber(residual_max)
-            << ",\"unconverged_steps\":" << unconverged
-            << ",\"frictionless_fallbacks\":" << frictionless_fallbacks
-            << ",\"energy_capped_steps\":" << energy_capped
-            << ",\"max_penetration\":" << jsonNumber(max_pen)
-            << ",\"energy_initial\":" << jsonNumber(energy_initial)
-            << ",\"energy_final\":" << jsonNumber(sim->energy().total()) << "}" << std::endl;
+  nscd::RunSummary summary;
+  summary.steps = status == 0 ? steps : k;
+  summary.sim_time = sim->state().t;
+  summary.wall_s = wall_s;
+  summary.iters_sum = iters_sum;
+  summary.iters_max = iters_max;
+  summary.residual_max = residual_max;
+  summary.unconverged_steps = unconverged;
+  summary.frictionless_fallbacks = frictionless_fallbacks;
+  summary.energy_capped_steps = energy_capped;
+  summary.max_penetration = max_pen;
+  summary.energy_initial = energy_initial;
+  summary.energy_final = sim->energy().total();
+  std::cout << nscd::runSummaryJson(summary) << std::endl;
   return status;
 }

@@ -5,7 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <fstream>
+#include <memory>
 #include <stdexcept>
+
+#include "csv_writer.hpp"
+#include "run_summary.hpp"
 
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
@@ -21,16 +26,26 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
     Simulator sim(model);
     const double h = sim.model().settings.dt;
     const long steps = std::max(0L, static_cast<long>(std::llround(opts.duration / h)));
+    const int every = std::max(1, opts.every);
+    applySchedules(opts.schedules, 0.0, sim);
+    std::unique_ptr<CsvWriter> writer;
+    if (!opts.series_csv.empty()) {
+      writer = std::make_unique<CsvWriter>(opts.series_csv, sim);
+      writer->writeRow(sim);
+    }
     r.energy_initial = sim.energy().total();
     double e_prev = r.energy_initial;
     long iters_sum = 0;
     for (long k = 1; k <= steps; ++k) {
+      applySchedules(opts.schedules, k * h, sim);  // the command at the end of the step
       const StepStatus st = sim.step();
       const StepStats& s = sim.stats();
       r.steps = k;
       iters_sum += s.iterations;
       r.iters_max = std::max(r.iters_max, s.iterations);
       if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
+      r.frictionless_fallbacks += s.frictionless_fallback;
+      r.energy_capped_steps += s.energy_capped;
       if (st == StepStatus::NonFinite) {
         r.status = "nonfinite";
         break;
@@ -52,10 +67,30 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       r.energy_step_gain_max = std::max(r.energy_step_gain_max, e - e_prev);
       r.kinetic_peak = std::max(r.kinetic_peak, en.kinetic);
       e_prev = e;
+      if (writer && k % every == 0) writer->writeRow(sim);
     }
     r.sim_time = sim.state().t;
     r.energy_final = sim.energy().total();
     r.iters_mean = r.steps > 0 ? static_cast<double>(iters_sum) / r.steps : 0.0;
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!opts.summary_json.empty()) {
+      RunSummary js;
+      js.steps = r.steps;
+      js.sim_time = r.sim_time;
+      js.wall_s = r.wall_s;
+      js.iters_sum = iters_sum;
+      js.iters_max = r.iters_max;
+      js.residual_max = r.residual_max;
+      js.unconverged_steps = r.unconverged_steps;
+      js.frictionless_fallbacks = r.frictionless_fallbacks;
+      js.energy_capped_steps = r.energy_capped_steps;
+      js.max_penetration = r.max_penetration;
+      js.energy_initial = r.energy_initial;
+      js.energy_final = r.energy_final;
+      std::ofstream f(opts.summary_json);
+      f << runSummaryJson(js) << "\n";
+      if (!f) throw std::runtime_error(opts.summary_json + ": cannot write");
+    }
   } catch (const std::exception& ex) {
     r.status = std::string("error: ") + ex.what();
   }

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/model.hpp"
 
 namespace nscd::sweep {
@@ -15,6 +16,15 @@ struct CaseOptions {
   // time of writing that const query changes the following steps (see
   // docs/performance.md), so it is an opt-in cross-check.
   bool measure_violation = false;
+  // Actuator schedules (nscd::bindCommandSchedules: --command texts and the scene's
+  // own), applied as nscd_run applies them: at t = 0, then at the end of each step.
+  std::vector<BoundSchedule> schedules;
+  // If set, the time series written as `nscd_run --csv FILE --every N` writes it
+  // (the first row at t = 0, then every `every` steps) ...
+  std::string series_csv;
+  int every = 1;
+  // ... and, if set, the JSON line nscd_run prints after the run.
+  std::string summary_json;
 };
 
 struct CaseMetrics {
@@ -35,6 +45,9 @@ struct CaseMetrics {
   double energy_gain_max = 0;  // max over steps of E(t) - E(0), J
   double energy_step_gain_max = 0;  // max over steps of E(k+1) - E(k), J
   double kinetic_peak = 0;     // max over steps of the kinetic energy, J
+  // Kept for the JSON summary (CaseOptions::summary_json), not in the CSV row.
+  long frictionless_fallbacks = 0;
+  long energy_capped_steps = 0;
 };
 
 // Runs a copy of `model` for opts.duration; never throws (errors go to status).

@@ -1,5 +1,5 @@
 """Shared by the pytest files: where the repository and nscd_run are, and the CSV
-formatting of nscd_run's writer (src/nscd_run/csv_writer.cpp) in Python."""
+formatting of nscd_run's writer (src/run_output/csv_writer.cpp) in Python."""
 import math
 import os
 import subprocess

@@ -1,7 +1,8 @@
 """scripts/c60_clearance_study.py, the C-60 clearance study written against the module:
-one case through the module backend (nscd_sim.study, 1 and 2 processes) and through
-the CLI backend (nscd_run), the figures the same; a case with random journal starts
-places them (its initial eccentricities differ from the centred scene's)."""
+one case through the module backend (nscd_sim.study, 1 and 2 processes), through
+the CLI backend (nscd_run) and through the sweep backend (nscd_sweep, two shards), the
+figures the same; a case with random journal starts places them (its initial
+eccentricities differ from the centred scene's)."""
 import json
 import os
 import subprocess
@@ -16,6 +17,7 @@ STUDY = os.path.join(REPO, 'scripts', 'c60_clearance_study.py')
 
 def run_study(out, *args):
     env = dict(os.environ, NSCD_RUN=NSCD_RUN)
+    env.pop('NSCD_SWEEP', None)  # the sweep backend takes the nscd_sweep beside NSCD_RUN
     p = subprocess.run(['/usr/bin/python3', STUDY, 'run', '--out', str(out)] + list(args),
                        capture_output=True, text=True, env=env)
     assert p.returncode == 0, p.stderr
@@ -41,6 +43,13 @@ def numbers(o, prefix=''):
         yield prefix, float(o)
 
 
+def without_wall(o):
+    """A result with its wall times left out (every other field kept)."""
+    if isinstance(o, dict):
+        return {k: without_wall(v) for k, v in o.items() if k != 'wall_s'}
+    return o
+
+
 def test_backends_and_worker_counts_agree(tmp_path):
     one, two, cli = tmp_path / 'one', tmp_path / 'two', tmp_path / 'cli'
     run_study(one, '--cases', 's07,a2', '--jobs', '1', '--backend', 'module')
@@ -55,6 +64,21 @@ def test_backends_and_worker_counts_agree(tmp_path):
     assert set(m) == set(c)
     for k in m:
         assert m[k] == pytest.approx(c[k], rel=1e-6, abs=1e-6), k
+    # The sweep backend: both shards of s07 and a2 (one case each) in one OUT. Both it and
+    # the cli backend read nscd_run's CSV format, so they agree to the last digit; with
+    # the module, to the CSV's precision.
+    sweep = tmp_path / 'sweep'
+    log0 = run_study(sweep, '--cases', 's07,a2', '--jobs', '2', '--backend', 'sweep', '--shard', '0/2')
+    log1 = run_study(sweep, '--cases', 's07,a2', '--jobs', '1', '--backend', 'sweep', '--shard', '1/2')
+    # Run k of nscd_sweep is the k-th selected case in CASES order (a2, s07): one per shard.
+    assert 'study_a2_trip.urdf) ok' in log0 and 'study_s07_trip.urdf' not in log0
+    assert 'study_s07_bench.urdf) ok' in log1 and 'study_a2_bench.urdf' not in log1
+    assert without_wall(figures(sweep, 's07')) == without_wall(figures(cli, 's07'))  # every field, None too
+    s, m = dict(numbers(figures(sweep, 'a2'))), dict(numbers(figures(one, 'a2')))
+    assert set(s) == set(m)
+    for k in m:
+        assert s[k] == pytest.approx(m[k], rel=1e-6, abs=1e-6), k
+    assert not os.path.exists(sweep / 'sweep_trip')  # the series are read and removed
     # The study's figures are the physics' (not all zero, and in the published order).
     t = figures(one, 's07')['trip']
     assert 0.7 < t['touch_ms'] < t['corner_ms'] < t['release_ms'] < t['c7_open_ms'] < t['release_ms'] + 2

@@ -1,4 +1,5 @@
-// The CSV columns of nscd_run (docs/interfaces.md): one row per recorded step.
+// The CSV columns of nscd_run --csv (docs/interfaces.md): one row per recorded step.
+// Shared by nscd_run and nscd_sweep --series (library nscd_run_output).
 #pragma once
 
 #include <cstdio>

@@ -1,0 +1,34 @@
+#include "run_summary.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace nscd {
+
+namespace {
+
+std::string jsonNumber(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string runSummaryJson(const RunSummary& r) {
+  return "{\"steps\":" + std::to_string(r.steps) + ",\"sim_time\":" + jsonNumber(r.sim_time) +
+         ",\"wall_s\":" + jsonNumber(r.wall_s) +
+         ",\"rtf\":" + jsonNumber(r.wall_s > 0 ? r.sim_time / r.wall_s : 0.0) +
+         ",\"iters_mean\":" + jsonNumber(r.steps > 0 ? double(r.iters_sum) / r.steps : 0.0) +
+         ",\"iters_max\":" + std::to_string(r.iters_max) +
+         ",\"residual_max\":" + jsonNumber(r.residual_max) +
+         ",\"unconverged_steps\":" + std::to_string(r.unconverged_steps) +
+         ",\"frictionless_fallbacks\":" + std::to_string(r.frictionless_fallbacks) +
+         ",\"energy_capped_steps\":" + std::to_string(r.energy_capped_steps) +
+         ",\"max_penetration\":" + jsonNumber(r.max_penetration) +
+         ",\"energy_initial\":" + jsonNumber(r.energy_initial) +
+         ",\"energy_final\":" + jsonNumber(r.energy_final) + "}";
+}
+
+}  // namespace nscd

@@ -1,0 +1,28 @@
+// The one-line JSON summary nscd_run prints on standard output after a run
+// (docs/interfaces.md); nscd_sweep --series writes the same line per run.
+#pragma once
+
+#include <string>
+
+namespace nscd {
+
+struct RunSummary {
+  long steps = 0;  // steps done
+  double sim_time = 0;
+  double wall_s = 0;
+  long iters_sum = 0;
+  int iters_max = 0;
+  double residual_max = 0;
+  long unconverged_steps = 0;
+  long frictionless_fallbacks = 0;
+  long energy_capped_steps = 0;
+  double max_penetration = 0;
+  double energy_initial = 0;
+  double energy_final = 0;
+};
+
+// {"steps":..,"sim_time":..,"wall_s":..,"rtf":..,"iters_mean":..,...} without a line
+// break; numbers as %.10g, non-finite ones as null.
+std::string runSummaryJson(const RunSummary& r);
+
+}  // namespace nscd
