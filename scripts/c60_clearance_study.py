@@ -139,7 +139,9 @@ def trip_figures(d):
     fig['latch_gap_initial_um'] = 1e6 * float(c60_plot.group_gap(d, 'C4')[0])
     fig['hook_yaw_initial_rad'] = float(c60_plot.yaw(d, 'hook')[0])
     return {'trip': fig, 'polarisation_initial': polarisation(d, 0),
-            'polarisation_rest': polarisation(d, int(np.nonzero(t < touch)[0][-1]))}
+            # The last row before the touch, with half a sample of slack: the touch time
+            # comes back from ms, and a CSV's t and the module's differ in the last digit.
+            'polarisation_rest': polarisation(d, int(np.nonzero(t < touch - 0.5 * float(np.median(np.diff(t))))[0][-1]))}
 
 
 def bench_figures(d):
