@@ -85,6 +85,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   f.stiff = hasStiffElements(m);
   f.planar = m.settings.planar == PlanarMode::XY;
   findStiffGroups(m, f);
+  // A body driven with constrain="axis" counts too: scaling its velocity to take
+  // energy back would break the prescribed rate along its axis.
   f.prescribed_body.assign(m.bodies.size(), 0);
   for (const Actuator& ac : m.actuators) {
     if (ac.type != ActuatorType::Prescribed) continue;
