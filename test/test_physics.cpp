@@ -59,6 +59,36 @@ TEST(Physics, BouncingBallApexHeights) {
   EXPECT_LT(max_pen, 1e-6);
 }
 
+// A sphere held between two walls with no play, moving into the lower one at
+// 1 m/s, e = 0.5, no gravity: both contacts are active, the upper one separating.
+// Newton's law on every active contact (u_N+ >= -e u_N-) bounces the sphere at
+// e times its speed, v_k = (-e)^k v_0; with the law on approaching contacts only,
+// the upper contact (u_N+ >= 0) would contradict the lower (u_N+ >= e v): a
+// problem with no solution, left unconverged every step.
+TEST(Physics, BallBetweenTwoWallsBouncesAtE) {
+  const double r = 0.05, e = 0.5, v0 = -1.0;
+  for (double mu : {0.0, 0.4}) {
+    std::string xml = ballScene(0.0, e, mu, 1e-4);
+    const std::string upper = R"(<nscd><contact name="ceiling" mu=")" + num(mu) + R"(" e=")" + num(e) +
+                              R"("><shape link="ball" type="sphere" radius=")" + num(r) +
+                              R"("/><shape link="world" type="plane"><origin xyz="0 0 )" + num(2 * r) +
+                              R"(" rpy="3.141592653589793 0 0"/></shape></contact></nscd>
+  <nscd><initial link="ball" vz=")" + num(v0) + R"("/></nscd>
+  <nscd><simulation)";
+    xml.replace(xml.find("<nscd><simulation"), 17, upper);
+    xml.replace(xml.find("gravity=\"0 0 -9.81\""), 20, "gravity=\"0 0 0\"");
+    Simulator sim = makeSim(xml);
+    double expected = v0;
+    for (int k = 1; k <= 6; ++k) {
+      ASSERT_EQ(sim.step(), StepStatus::Ok);
+      expected *= -e;
+      EXPECT_TRUE(sim.stats().converged) << "mu " << mu << " step " << k;
+      EXPECT_EQ(sim.stats().active_contacts, 2) << "mu " << mu << " step " << k;
+      EXPECT_NEAR(sim.state().bodies[0].v.z(), expected, 1e-9) << "mu " << mu << " step " << k;
+    }
+  }
+}
+
 // A box on a 15 degree slope with mu = 0.3 sticks: it moves less than 1e-6 m in 1 s.
 TEST(Physics, BlockSticksBelowFrictionAngle) {
   const double alpha = 15 * M_PI / 180;

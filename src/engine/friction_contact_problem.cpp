@@ -1,7 +1,7 @@
 // Stage 4a: the friction-contact problem of the step's rows. Local free
 // velocities b = G v_free; bilateral rows aim at their rheonomic targets, ideal
 // joints at a workless theta-average velocity (Settings::joint_work); the
-// Newton impact law shifts an approaching contact's normal by e U_N,k; impulses
+// Newton impact law shifts every active contact's normal by e U_N,k; impulses
 // start from the last step's (warm start, carried by the State).
 #include <algorithm>
 
@@ -41,9 +41,14 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
       continue;
     }
     ++st.active_contacts;
-    // Newton impact law: U_N+ >= -e U_N- for approaching contacts.
+    // Newton impact law: U_N+ >= -e U_N- on every active contact, a separating one
+    // too (design.md). Then v = -e v_k meets every normal condition, so the
+    // frictionless problem (a convex QP in v) always has a solution. With the shift
+    // on approaching contacts only, a body between two active contacts (a journal
+    // touching both sides of a tight bearing, within the margin) moving into one of
+    // them has none: the other's U_N+ >= 0 contradicts the first's U_N+ >= e |U_N-|.
     const double un_k = G.row(blk.row).dot(ws.vk);
-    if (un_k < 0) ws.b[blk.row] += blk.contact.e * un_k;
+    ws.b[blk.row] += blk.contact.e * un_k;
     if (warm) {
       const int slot = blk.contact.slot;
       const bool valid = slot >= 0 && s.warm_valid[slot] != 0;
@@ -66,7 +71,7 @@ void removeRestitution(StepWorkspace& ws) {
   for (const ConstraintBlock& blk : ws.blocks) {
     if (blk.kind == BlockKind::Bilateral) continue;
     const double un_k = G.row(blk.row).dot(ws.vk);
-    if (un_k < 0) ws.b[blk.row] -= blk.contact.e * un_k;
+    ws.b[blk.row] -= blk.contact.e * un_k;
   }
 }
 
