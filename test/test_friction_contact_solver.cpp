@@ -858,3 +858,42 @@ TEST(Newton, HardHyperstaticProblems) {
   EXPECT_GE(autoOnHard, hard - hard / 8);
   EXPECT_LT(newtonIts * 4, nsgsIts);
 }
+
+// A planar two-link chain jammed in its two clearance joints (stress case 248:
+// mass ratio 864, mu 0.95, one contact per joint; the out-of-plane tangents
+// decoupled). W is well posed (6 x 6, eigenvalues 5.8e-3 to 60), and its only
+// solution, found by enumerating every open / stick / slide pattern, has both
+// contacts sticking: P = -W^-1 b, impulses of about 7 against |b| = 0.15,
+// |P_T| = 0.95 and 0.82 of mu P_N. The plain Newton cycles between two status
+// patterns from any start (checked in a prototype), and 200 sweeps end at 2e-3;
+// the proximal Newton, whose shift lifts W's weakest direction, reaches it.
+TEST(ProximalNewton, JammedChainSticksAtBothJoints) {
+  MatrixXd W(6, 6);
+  W << 25.532728543683437, 17.31219854321942, 0, -13.838200872202844, 5.8307993966926119, 0,
+      17.31219854321942, 29.29552927915746, 0, -3.6818131138747177, 15.791626988550583, 0,
+      0, 0, 29.29552927915746, 0, 0, 0,
+      -13.838200872202844, -3.6818131138747177, 0, 19.526178313602404, -12.287029675773288, 0,
+      5.8307993966926119, 15.791626988550583, 0, -12.287029675773288, 25.878921231026151, 0,
+      0, 0, 0, 0, 0, 25.878921231026151;
+  VectorXd b(6);
+  b << -0.002687577996193504, 0.1523024187913769, 0, -0.0001233920017093629,
+      -0.00064712447704984299, 0;
+  const double mu = 0.95302030171673535;
+  const std::vector<ProblemBlock> blocks{{BlockKind::Frictional, 0, 3, mu},
+                                         {BlockKind::Frictional, 3, 3, mu}};
+  const VectorXd stick = -W.ldlt().solve(b);
+  for (int c = 0; c < 2; ++c)  // the stick answer is inside both cones
+    ASSERT_LT(stick.segment<2>(3 * c + 1).norm(), mu * stick(3 * c));
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-8;
+  o.max_iterations = 200;
+  VectorXd P = VectorXd::Zero(6);
+  P(0) = 0.00016617999733904709, P(3) = 0.00012456853365408547;  // the run's warm start
+  const SolverReport r = s.solve(W, b, blocks, o, P);
+  EXPECT_TRUE(r.converged) << r.residual;
+  EXPECT_LE((P - stick).norm(), 1e-6 * stick.norm()) << P.transpose();
+  o.method = SolverMethod::NSGS;  // the sweeps alone end far from it
+  VectorXd Pn = VectorXd::Zero(6);
+  EXPECT_GT(s.solve(W, b, blocks, o, Pn).residual, 1e-4);
+}

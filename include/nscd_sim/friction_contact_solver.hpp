@@ -76,6 +76,7 @@ class FrictionContactSolver {
     int maxRows = 0;            // capacity in rows
     int maxEq = 0;              // capacity in equality rows
     Eigen::VectorXd U, Pbest, Pstart;  // running local velocities; best iterate; Newton start
+    Eigen::VectorXd Pinitial;          // the warm start the solve was given
     Eigen::MatrixXd eqL;        // Cholesky factor of the assembled equality block
     Eigen::VectorXd eqRhs;
     std::vector<int> eqRows;    // rows of the equality block (W order)

@@ -114,6 +114,7 @@ void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllow
     ws.U.resize(m);
     ws.Pbest.resize(m);
     ws.Pstart.resize(m);
+    ws.Pinitial.resize(m);
     ws.phi.resize(m);
     ws.d.resize(m);
     ws.Wd.resize(m);
@@ -130,7 +131,7 @@ void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllow
     ws.J.resize(cap, cap);
     ws.Wprox.resize(cap, cap);
     ws.bprox.resize(cap);
-    ws.Pouter.resize(2 * cap);
+    ws.Pouter.resize(3 * cap);
   }
 }
 
@@ -204,21 +205,55 @@ namespace {
 // else when the NSGS rate observed predicts more sweeps than Newton costs
 // (checked after kSwitchSweeps, then at doubling sweep counts); NSGS to the
 // end; a failed Newton hands back to NSGS where it started (the first failure
-// restarts it from P = 0), with up to kNewtonAttempts attempts in all between
-// runs of sweeps; the proximal Newton if all that fell short. False on a
-// non-finite iterate.
+// restarts it from P = 0, then from the warm start), with up to kNewtonAttempts
+// attempts in all between runs of sweeps; the proximal Newton (its own budget)
+// when the last attempt fails, and again from the best iterate if all that fell
+// short; then one long Newton. False on a non-finite iterate.
 bool runSchedule(SolveRun& run, bool newtonAllowed) {
   SolveRun::Workspace& ws = run.ws;
   const SolverOptions& options = run.options;
   SolverReport& rep = run.rep;
   int attempts = 0;
+  // The proximal Newton from the best iterate. restore: if it fails, the run goes
+  // on exactly as if it had not been tried (P, the best iterate and the Newton
+  // start as they were).
+  const auto runProximal = [&](bool restore) {
+    const int m = run.m;
+    // The NSGS state to go back to: vectors in ws.Pouter, scalars here.
+    const double bestAll = run.bestAll, sigma = run.sigma, stallErr = run.stallErr;
+    const int stallIt = run.stallIt;
+    if (restore) {
+      ws.Pouter.head(m) = run.P.head(m);
+      ws.Pouter.segment(m, m) = ws.Pbest.head(m);
+      ws.Pouter.segment(2 * m, m) = ws.Pstart.head(m);
+    }
+    if (run.bestAll < run.err) {
+      run.P.head(m) = ws.Pbest.head(m);
+      setUpRun(run, run.maxDiag);
+    }
+    if (runProximalNewton(run)) return true;
+    if (restore) {
+      run.P.head(m) = ws.Pouter.head(m);
+      setUpRun(run, run.maxDiag);
+      ws.Pbest.head(m) = ws.Pouter.segment(m, m);
+      ws.Pstart.head(m) = ws.Pouter.segment(2 * m, m);
+      run.bestAll = bestAll;
+      run.sigma = sigma;
+      run.stallErr = stallErr;
+      run.stallIt = stallIt;
+    }
+    return false;
+  };
   // A failed Newton hands back to NSGS where it started. The first failure
   // restarts from P = 0: a warm start carried over from the last step can sit
   // far out along the null space of W (hyperstatic sets), where the Newton
   // stalls; from a clean start it mostly converges.
+  int firstSweeps = 0;  // sweeps before the first Newton attempt
   const auto tryNewton = [&] {
-    ++attempts;
+    if (++attempts == 1) firstSweeps = rep.sweeps;
     if (runNewton(run)) return;
+    // All plain attempts failed: the proximal Newton, before the sweeps go on.
+    if (attempts == kNewtonAttempts && runProximal(true)) return;
     resumeNsgs(run);
     if (attempts != 1) return;
     const double bestBefore = run.bestAll;  // the best iterate so far stays on offer
@@ -232,7 +267,23 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
     if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return;
     ws.Pstart.head(run.m) = run.P.head(run.m);
     if (runNewton(run)) return;
-    // Both starts failed: the sweeps go on from the better of the two.
+    // A third start: the warm start, one sweep on, when the first one was many
+    // sweeps away from it (a C-60 handle step: the Newton converges in 31
+    // iterations from there, and from neither of the other two).
+    if (firstSweeps > 1 && ws.Pinitial.head(run.m).cwiseAbs().maxCoeff() > 0) {
+      const double bestNow = run.bestAll;
+      ws.Pouter.segment(run.m, run.m) = ws.Pbest.head(run.m);
+      run.P.head(run.m) = ws.Pinitial.head(run.m);
+      setUpRun(run, run.maxDiag);
+      if (bestNow < run.bestAll) {
+        run.bestAll = bestNow;
+        ws.Pbest.head(run.m) = ws.Pouter.segment(run.m, run.m);
+      }
+      if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return;
+      ws.Pstart.head(run.m) = run.P.head(run.m);
+      if (runNewton(run)) return;
+    }
+    // All starts failed: the sweeps go on from the best iterate so far.
     if (run.bestAll < bestBefore || run.bestAll >= run.err) {
       resumeNsgs(run);
       return;
@@ -278,13 +329,7 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
     if (ok && !rep.converged && retry && rep.sweeps < options.max_iterations) tryNewton();
   }
   // Last resort: the proximal Newton from the best iterate.
-  if (ok && !rep.converged && newtonAllowed) {
-    if (run.bestAll < run.err) {
-      run.P.head(run.m) = ws.Pbest.head(run.m);
-      setUpRun(run, run.maxDiag);
-    }
-    runProximalNewton(run);
-  }
+  if (ok && !rep.converged && newtonAllowed) runProximal(false);
   // Then one long Newton from P = 0. Some frictional sets converge only after a
   // few hundred Newton steps whose error does not halve every 25 (a C-60 trip
   // step of 22 contacts: 305 steps; Siconos's NSN-AC takes 638): too slow to try
@@ -372,6 +417,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
 
   SolveRun run(W, b, blocks, options, P, ws_, m);
   setUpRun(run, maxDiag);
+  ws_.Pinitial.head(m) = P.head(m);
   if (run.err <= options.tolerance) {
     run.rep.converged = true;
     return run.rep;

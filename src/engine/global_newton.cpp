@@ -44,8 +44,8 @@ bool runNewton(SolveRun& run, const NewtonBudget& budget) {
 
   auto J = ws.J.topLeftCorner(m, m);
   const int ld = int(ws.J.rows());
-  const int maxIt =
-      std::min(budget.max_iterations, options.max_iterations - rep.newton_iterations);
+  const int maxIt = std::min(budget.max_iterations, options.max_iterations - rep.newton_iterations +
+                                                        run.proximalNewtonIterations);
   ws.Pstart.head(m) = P.head(m);
   run.refreshU();
   double f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, ws.phi.data());

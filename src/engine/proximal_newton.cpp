@@ -1,12 +1,24 @@
-// The global Newton inside a proximal-point loop: the last resort on hyperstatic
-// sets (two rings and the bumps of a clearance joint, closed loops, a latch),
-// where W is singular, the solutions are not isolated and the Alart-Curnier
-// Jacobian is singular at them. Each outer step k solves the shifted problem
-//   U = (W + sigma_k D) P + (b - sigma_k D P_k)
-// (D: each block's mean diagonal of W, so a contact's cone is kept), which is
-// strongly monotone, by the global Newton; a fixed point P = P_k solves the
-// original problem. sigma_k = 5 x the current error, so the shift vanishes as the
-// answer converges; an inner solve that fails is retried with 10 x sigma.
+// The global Newton inside a proximal-point loop, for the sets where the plain
+// Newton fails: hyperstatic ones (two rings and the bumps of a clearance joint,
+// closed loops, a latch), where W is singular, the solutions are not isolated
+// and the Alart-Curnier Jacobian is singular at them; and badly conditioned ones
+// (a light link between heavy ones: W's nonzero eigenvalues spread over 1e5 to
+// 1e11, jammed joints whose impulses lie along the weakest of them). Outer step k
+// solves the shifted problem
+//   U = (W + s_k I) P + (b - s_k P_k),   s_k = sigma_k d,
+// which is better conditioned, by the global Newton; a fixed point P = P_k solves
+// the original problem. An inexact proximal point (Siconos's PROX):
+// - the shift is uniform, d the smallest nonzero diagonal of W: it lifts all of
+//   W's near-null directions alike. A shift in proportion to each block's
+//   diagonal solved 40 of 123 problems the stress suite left unsolved, this one 72.
+// - sigma_k = 0.05 x the outer error, so the shift vanishes as the answer converges;
+// - the inner Newton only has to reach 0.1 x the outer error, and its last
+//   iterate is kept even when it falls short (the next outer step goes on from it);
+// - a failed inner solve multiplies sigma by 10; after a success sigma stays at
+//   least 3 x the last failed one (a memory that halves at every success), or
+//   the loop would drop back to the sigma that just failed and cycle.
+// Its Newton iterations are counted in the report, against a budget of their own
+// (max_iterations): they do not use up the plain Newton's.
 #include <algorithm>
 #include <cmath>
 
@@ -16,18 +28,17 @@ namespace nscd {
 namespace {
 
 constexpr int kMaxOuter = 40;
-constexpr double kSigmaPerError = 5;
-constexpr double kSigmaGrowth = 10;   // after a failed inner solve
-constexpr double kInnerTolRatio = 0.1;  // inner tolerance: this x the outer error
+constexpr double kSigmaPerError = 0.05;
+constexpr double kSigmaGrowth = 10;       // after a failed inner solve
+constexpr double kSigmaAfterFailure = 3;  // sigma after a success: at least this x the last failed one
+constexpr double kInnerTolRatio = 0.1;    // inner tolerance: this x the outer error
 
-void blockScales(const Eigen::Ref<const Eigen::MatrixXd>& W, const std::vector<ProblemBlock>& blocks,
-                 double* D) {
-  for (const ProblemBlock& bl : blocks) {
-    double s = 0;
-    for (int i = bl.row; i < bl.row + bl.size; ++i) s += W(i, i);
-    s /= bl.size;
-    for (int i = bl.row; i < bl.row + bl.size; ++i) D[i] = s;
-  }
+// The smallest diagonal of W that is not a zero row.
+double smallestDiagonal(const SolveRun& run) {
+  double d = INFINITY;
+  for (int i = 0; i < run.m; ++i)
+    if (run.Wm(i, i) > run.zeroDiag) d = std::min(d, run.Wm(i, i));
+  return std::isfinite(d) ? d : run.maxDiag;
 }
 
 }  // namespace
@@ -38,33 +49,35 @@ bool runProximalNewton(SolveRun& run) {
   SolverReport& rep = run.rep;
   const SolverOptions& options = run.options;
   Eigen::Ref<Eigen::VectorXd>& P = run.P;
-  double* D = ws.Pouter.data() + m;  // Pouter holds 2m: the outer iterate, then D
-  blockScales(run.Wm, run.blocks, D);
+  const double d = smallestDiagonal(run);
   const double maxDiag = run.maxDiag;
 
   SolverOptions inner = options;
   inner.method = SolverMethod::Newton;
   double sigma = kSigmaPerError * run.err;
+  double failedSigma = 0;
   double bestErr = run.err;
   ws.Pbest.head(m) = P.head(m);
   bool converged = false;
-  for (int outer = 0; outer < kMaxOuter && rep.newton_iterations < options.max_iterations; ++outer) {
-    ws.Pouter.head(m) = P.head(m);
+  int used = 0;  // this loop's Newton iterations
+  for (int outer = 0; outer < kMaxOuter && used < options.max_iterations; ++outer) {
+    const double shift = sigma * d;
     auto Wp = ws.Wprox.topLeftCorner(m, m);
     Wp = run.Wm;
     for (int i = 0; i < m; ++i) {
-      Wp(i, i) += sigma * D[i];
-      ws.bprox(i) = run.b(i) - sigma * D[i] * P(i);
+      Wp(i, i) += shift;
+      ws.bprox(i) = run.b(i) - shift * P(i);
     }
     const Eigen::Ref<const Eigen::MatrixXd> Wref(Wp);
     const Eigen::Ref<const Eigen::VectorXd> bref(ws.bprox.head(m));
-    inner.tolerance = std::max(1e-16, std::min(options.tolerance, kInnerTolRatio * run.err));
-    inner.max_iterations = options.max_iterations - rep.newton_iterations;
+    inner.tolerance = std::max(1e-16, kInnerTolRatio * run.err);
+    inner.max_iterations = options.max_iterations - used;
     SolveRun in(Wref, bref, run.blocks, inner, P, ws, m);
-    setUpRun(in, maxDiag * (1 + sigma));
+    setUpRun(in, maxDiag + shift);
     const bool ok = in.err <= inner.tolerance || runNewton(in);
     rep.newton_iterations += in.rep.newton_iterations;
-    if (!ok) P.head(m) = ws.Pouter.head(m);
+    run.proximalNewtonIterations += in.rep.newton_iterations;
+    used += std::max(1, in.rep.newton_iterations);
     run.refreshU();
     run.err = errorFromU(run.blocks, P.data(), run.U.data(), run.bnorm);
     if (!std::isfinite(run.err)) break;
@@ -76,9 +89,16 @@ bool runProximalNewton(SolveRun& run) {
       converged = true;
       break;
     }
-    sigma = ok ? kSigmaPerError * run.err : kSigmaGrowth * sigma;
+    if (!ok) {
+      failedSigma = sigma;
+      sigma *= kSigmaGrowth;
+    } else {
+      sigma = std::max(kSigmaPerError * run.err, kSigmaAfterFailure * failedSigma);
+      failedSigma *= 0.5;
+    }
   }
   if (!converged) P.head(m) = ws.Pbest.head(m);
+  run.bestAll = bestErr;  // ws.Pbest is now this loop's best
   // The run's buffers (equality factor, scaling, U, error) back to the original problem.
   setUpRun(run, maxDiag);
   rep.converged = converged && run.err <= options.tolerance;

@@ -39,6 +39,9 @@ struct SolveRun {
   SolverReport rep;
   double err = 0;        // error of P
   double bestAll = 0;    // error of ws.Pbest, the best NSGS iterate
+  // Of rep.newton_iterations, those of the proximal loop (proximal_newton.cpp):
+  // they have a budget of their own.
+  int proximalNewtonIterations = 0;
   // Proximal NSGS (see nsgs.cpp): weight, and the error and sweep it last halved at.
   double sigma = 0;
   double stallErr = 0;
@@ -82,9 +85,10 @@ struct NewtonBudget {
 bool runNewton(SolveRun& run);
 bool runNewton(SolveRun& run, const NewtonBudget& budget);
 
-// proximal_newton.cpp: the global Newton inside a proximal-point loop, the last
-// resort on hyperstatic sets; false if it gives up (P is then its best iterate,
-// and the run is set up again for the original problem).
+// proximal_newton.cpp: the global Newton inside a proximal-point loop, for
+// hyperstatic and badly conditioned sets where the plain Newton failed; false if
+// it gives up (P is then its best iterate, and the run is set up again for the
+// original problem).
 bool runProximalNewton(SolveRun& run);
 
 }  // namespace nscd
