@@ -80,3 +80,33 @@ TEST(Docs, SceneFormatNamesEveryElementAndAttribute) {
         << "setting '" << k << "' is not documented under <simulation>";
   EXPECT_GT(checked, 50);
 }
+
+// docs/performance.md is written by scripts/performance.sh from
+// scripts/performance_template.md: everything but the generated parts (@NAME@ in
+// the template) must be the template's text, in its order. A hand-written section
+// edited into the page only would be lost at the next regeneration.
+TEST(Docs, PerformancePageMatchesItsTemplate) {
+  const auto read = [](const char* path) {
+    std::ifstream f(nscd_test::scenePath(path));
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+  };
+  const std::string page = read("docs/performance.md"), tmpl = read("scripts/performance_template.md");
+  ASSERT_FALSE(page.empty());
+  ASSERT_FALSE(tmpl.empty());
+  const std::regex placeholder("@[A-Z_]+@");
+  size_t at = 0;
+  int chunks = 0;
+  for (std::sregex_token_iterator it(tmpl.begin(), tmpl.end(), placeholder, -1), end; it != end; ++it) {
+    const std::string chunk = *it;
+    if (chunk.empty()) continue;
+    const size_t found = page.find(chunk, at);
+    ASSERT_NE(found, std::string::npos)
+        << "docs/performance.md lacks (or reorders) this text of the template:\n"
+        << chunk.substr(0, 300);
+    at = found + chunk.size();
+    ++chunks;
+  }
+  EXPECT_GE(chunks, 7);
+}
