@@ -218,6 +218,7 @@ int main(int argc, char** argv) {
   }
 
   long failed = 0, pen_bad = 0, gain_bad = 0, unconv_runs = 0, unconv_steps = 0, total_steps = 0;
+  long frictionless = 0, capped = 0;  // steps that took a fallback (counted unconverged too)
   double pen_max = 0, viol_max = 0, gain_max = -1e300, unconv_res = 0;
   long worst_pen = -1, worst_gain = -1, first_failed = -1;
   for (const Row& r : rows) {
@@ -235,14 +236,18 @@ int main(int argc, char** argv) {
     unconv_runs += r.m.unconverged_steps > 0;
     unconv_steps += r.m.unconverged_steps;
     unconv_res = std::max(unconv_res, r.m.unconverged_residual_max);
+    frictionless += r.m.frictionless_fallbacks;
+    capped += r.m.energy_capped_steps;
   }
   std::printf(
       "{\"runs\":%ld,\"seed\":%llu,\"steps_per_run\":%ld,\"total_steps\":%ld,\"wall_s\":%.3f,"
       "\"failed\":%ld,\"first_failed_case\":%ld,\"pen_rel_max\":%.4g,\"worst_pen_case\":%ld,"
       "\"pen_rel_over_1pct\":%ld,\"violation_rel_max\":%.4g,\"energy_gain_rel_max\":%.4g,"
       "\"worst_gain_case\":%ld,\"energy_gain_over_tol\":%ld,\"energy_tol_rel\":%.1g,"
-      "\"unconverged_runs\":%ld,\"unconverged_steps\":%ld,\"unconverged_residual_max\":%.4g}\n",
+      "\"unconverged_runs\":%ld,\"unconverged_steps\":%ld,\"unconverged_residual_max\":%.4g,"
+      "\"frictionless_fallback_steps\":%ld,\"energy_capped_steps\":%ld}\n",
       runs, seed, steps, total_steps, wall, failed, first_failed, pen_max, worst_pen, pen_bad,
-      viol_max, gain_max, worst_gain, gain_bad, kEnergyGainRel, unconv_runs, unconv_steps, unconv_res);
+      viol_max, gain_max, worst_gain, gain_bad, kEnergyGainRel, unconv_runs, unconv_steps, unconv_res,
+      frictionless, capped);
   return failed == 0 && pen_bad == 0 && gain_bad == 0 ? 0 : 1;
 }
