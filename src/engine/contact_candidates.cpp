@@ -134,11 +134,23 @@ void findContactCandidates(const Model& m, const State& s, double h, CandidateMo
   pass.extra_margin = extra_margin;
   pass.eps_act = activationTolerance(m.settings, mode);
   pass.predict = mode == CandidateMode::Step && m.settings.contact_prediction > 0;
+  // The projection's check at q_{k+1} is the next step's q_k unless something
+  // moves the bodies first: it keeps its pairs' points for the step
+  // (narrowphase_cache.hpp).
+  if (mode == CandidateMode::Projection) {
+    pass.cache = CacheUse::Fill;
+    pass.next_h = m.settings.dt;
+    pass.next_eps_act = activationTolerance(m.settings, CandidateMode::Step);
+    ws.narrow.valid = false;
+  } else if (mode == CandidateMode::Step && narrowphaseKeyMatches(ws.narrow, s)) {
+    pass.cache = CacheUse::Read;
+  }
   ws.candidates.clear();
   for (size_t p = 0; p < m.contacts.size(); ++p)
     appendPairCandidates(m, s, static_cast<int>(p), pass, ws);
   for (size_t c = 0; c < m.clearance_joints.size(); ++c)
     appendClearanceCandidates(m, s, static_cast<int>(c), pass, ring_hint + 2 * c, ws);
+  if (pass.cache == CacheUse::Fill) storeNarrowphaseKey(s, ws.narrow);
 }
 
 void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,

@@ -31,12 +31,15 @@ void appendPairCandidates(const Model& m, const State& s, int p, const Candidate
   const ContactPair& pair = m.contacts[p];
   const BodyState& a = bodyOrGround(s, pair.a.body);
   const BodyState& b = bodyOrGround(s, pair.b.body);
-  const double margin =
-      pass.extra_margin + pass.eps_act +
-      2.0 * pass.h * (speedBound(a, shapeReach(pair.a)) + speedBound(b, shapeReach(pair.b)));
+  const double speeds = speedBound(a, shapeReach(pair.a)) + speedBound(b, shapeReach(pair.b));
+  const double margin = pass.extra_margin + pass.eps_act + 2.0 * pass.h * speeds;
+  const double next_margin = 0.0 + pass.next_eps_act + 2.0 * pass.next_h * speeds;  // as a Step pass
   const Pose pa = poseOf(a) * pair.a.pose;
   const Pose pb = poseOf(b) * pair.b.pose;
-  const int np = collide(pair.a, pa, pair.b, pb, margin, ws.points);
+  const int np = cachedPairPoints(ws.narrow, pass.cache, p, margin, next_margin, ws.points,
+                                  [&](double mg, ContactPoint* out) {
+                                    return collide(pair.a, pa, pair.b, pb, mg, out);
+                                  });
   int nahead = 0;
   if (pass.predict && np > 0) {
     const Pose qa = poseOf(bodyOrGround(ws.predicted, pair.a.body)) * pair.a.pose;

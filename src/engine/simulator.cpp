@@ -36,6 +36,7 @@ Simulator::~Simulator() = default;
 
 void Simulator::reset() {
   state_ = initial_state_;
+  ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
 
@@ -56,6 +57,7 @@ void Simulator::setState(const State& s) {
   for (double a : s.joint_angle) finite = finite && std::isfinite(a);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
   state_ = s;
+  ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
 

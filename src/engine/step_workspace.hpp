@@ -1,7 +1,8 @@
 // The data of a time step, internal to the engine: the preallocated buffers the
 // stages share (StepWorkspace), what a step reports (StepOutputs), and the
 // constraint rows they pass along. Dynamic state lives in State (simulator.hpp);
-// nothing here carries information from one step to the next, except outputs.
+// nothing here carries information from one step to the next, except outputs
+// and the narrowphase memo, keyed on the poses (narrowphase_cache.hpp).
 // The stage functions are declared in step_stages.hpp.
 #pragma once
 
@@ -15,6 +16,7 @@
 #include "nscd_sim/contact_geometry.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "narrowphase_cache.hpp"
 
 namespace nscd {
 
@@ -125,6 +127,9 @@ class StepWorkspace {
   FrictionContactSolver solver;
   int rows = 0;
 
+  // The shape pairs' points of the projection's last pass, for the next step's
+  // (keyed on the poses: a memo, not state).
+  NarrowphaseCache narrow;
   ContactPoint points[kMaxClearancePoints];
   ContactPoint points_ahead[kMaxClearancePoints];  // the same pair at ws.predicted
 };
