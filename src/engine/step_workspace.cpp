@@ -69,6 +69,9 @@ void findStiffGroups(const Model& m, ModelFacts& f) {
   for (int i = 0; i < nb; ++i) f.coupled[i] = {i};
   for (const std::vector<int>& g : f.stiff_groups)
     for (int i : g) f.coupled[i] = g;
+  f.coupled_mask.assign(nb, 0);
+  for (int i = 0; i < nb && nb <= 64; ++i)
+    for (int c : f.coupled[i]) f.coupled_mask[i] |= std::uint64_t{1} << c;
 }
 
 }  // namespace
@@ -116,6 +119,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
   initNarrowphaseCache(ws.nbodies, static_cast<int>(m.contacts.size()), ws.narrow);
   ws.row_bodies.assign(mr, {kGround, kGround});
+  ws.row_support.assign(mr, 0);
   ws.problem.reserve(mr);
   ws.rates.assign(m.actuators.size(), 0.0);
   ws.zero_rates.assign(m.actuators.size(), 0.0);

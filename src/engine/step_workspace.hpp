@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -74,6 +75,7 @@ struct ModelFacts {
   // Per body: the bodies Ŵ couples it with, itself included, ascending (its
   // stiff group, or itself alone).
   std::vector<std::vector<int>> coupled;
+  std::vector<std::uint64_t> coupled_mask;  // the same as bits (models of up to 64 bodies)
   bool planar = false;   // x-y plane motions only
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
@@ -118,6 +120,7 @@ class StepWorkspace {
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
+  std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
   Eigen::MatrixXd G;       // max_rows x n
   Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
