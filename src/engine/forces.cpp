@@ -166,13 +166,17 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     // multiplied by 0): its velocity columns are exactly 0 and are skipped.
     const bool damped = el.is_spring ? m.springs[el.index].damping != 0
                                      : m.actuators[el.index].kd != 0;
+    // About a joint that is not prismatic (torsion springs, PD actuators on
+    // revolute joints) the force reads only orientations and angular velocities:
+    // its columns of x and v are exactly 0 as well, and are skipped.
+    const bool rotational = el.joint >= 0 && m.joints[el.joint].type != JointType::Prismatic;
     const int bodies[2] = {el.body_a, el.body_b};
     for (int side = 0; side < 2; ++side) {
       const int bj = bodies[side];
       if (bj == kGround) continue;
       const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
       for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
-        for (int dof = 0; dof < 6; ++dof) {
+        for (int dof = rotational ? 3 : 0; dof < 6; ++dof) {
           const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
           BodyState ap = a0, bp = b0, am = a0, bm = b0;
           perturb(side == 0 ? ap : bp, dof, eps, pos);
