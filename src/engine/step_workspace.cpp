@@ -3,6 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact_pair.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -87,6 +88,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   f.contact_slot_base_clearance = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair;
   f.stiff = hasStiffElements(m);
   f.planar = m.settings.planar == PlanarMode::XY;
+  f.pair_reach.clear();
+  for (const ContactPair& pair : m.contacts) f.pair_reach.push_back({shapeReach(pair.a), shapeReach(pair.b)});
   findStiffGroups(m, f);
   // A body driven with constrain="axis" counts too: scaling its velocity to take
   // energy back would break the prescribed rate along its axis.

@@ -76,6 +76,7 @@ struct ModelFacts {
   // stiff group, or itself alone).
   std::vector<std::vector<int>> coupled;
   std::vector<std::uint64_t> coupled_mask;  // the same as bits (models of up to 64 bodies)
+  std::vector<std::array<double, 2>> pair_reach;  // per contact pair: shapeReach of a and b
   bool planar = false;   // x-y plane motions only
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
