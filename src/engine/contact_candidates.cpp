@@ -81,7 +81,9 @@ void appendContactRows(const Model& m, const State& s, const ContactCandidate& c
     blk.t1 = anyOrthogonal(n);
     blk.t2 = n.cross(blk.t1);
   }
-  writeJacobianRows(c.row_ahead ? ws.predicted : s, blk, ws.G);
+  // The projection modes' rows are written only for a correction (projection.cpp):
+  // most checks find nothing to correct and need the gaps alone.
+  if (!normal_only) writeJacobianRows(c.row_ahead ? ws.predicted : s, blk, ws.G);
   ws.rows += blk.size;
   ws.blocks.push_back(blk);
 }

@@ -114,6 +114,7 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     const int r = ws.rows;
     ws.problem.clear();
     for (ConstraintBlock& blk : ws.blocks) {
+      if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
       ProblemBlock pb;
       pb.kind = blk.kind;
       pb.row = blk.row;

@@ -73,7 +73,8 @@ void findContactCandidates(const Model& m, const State& s, double h, CandidateMo
                            double extra_margin, double* ring_hint, StepWorkspace& ws);
 // Activation and rows: in Step mode, a candidate whose gap closes within the step
 // (predicted from v_k, or from v_free) gets its rows, the others wait in
-// ws.deferred; in the projection modes every candidate gets a normal row.
+// ws.deferred; in the projection modes every candidate gets a normal row, whose
+// Jacobian row in G is left for the caller to write (writeJacobianRows).
 void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,
                       StepWorkspace& ws);
 // Deferred candidates that close under the solved velocity ws.vnew (g + h
