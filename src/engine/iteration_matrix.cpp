@@ -24,12 +24,25 @@ bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd
   return true;
 }
 
+void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
+                              Eigen::VectorXd& y) {
+  // Ŵ couples a body only with those of its stiff group: its 6 x 6 blocks there.
+  for (int b = 0; b < ws.nbodies; ++b)
+    for (int c : ws.facts.coupled[b])
+      y.segment<6>(6 * c).noalias() += ws.iteration_inverse.block<6, 6>(6 * c, 6 * b) * x.segment<6>(6 * b);
+}
+
 void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st) {
   const double theta = m.settings.theta;
   const int n = ws.n;
   ws.rhs.noalias() = h * ws.F;
   if (!ws.facts.stiff) return;
-  ws.rhs.noalias() += (h * h * theta) * ws.K * ws.vk;
+  // K is nonzero only within the stiff groups (forces.cpp).
+  for (const std::vector<int>& g : ws.facts.stiff_groups)
+    for (int br : g)
+      for (int bc : g)
+        ws.rhs.segment<6>(6 * br).noalias() +=
+            (h * h * theta) * (ws.K.block<6, 6>(6 * br, 6 * bc) * ws.vk.segment<6>(6 * bc));
   if (!ws.facts.planar) {
     // C and K couple only the bodies of a stiff group, so A is block-diagonal over
     // the groups, and every other body's block is M's: Ŵ is M^-1 there (set up

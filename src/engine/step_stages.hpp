@@ -39,6 +39,9 @@ Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
 // and Ŵ = (M - h theta C - h^2 theta^2 K)^-1 when the model has stiff elements
 // (else Ŵ = M^-1). Needs ws.vk.
 void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st);
+// y += Ŵ x, from Ŵ's blocks within the stiff groups (it couples no others).
+void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
+                              Eigen::VectorXd& y);
 // B (B^T A B)^-1 B^T (B: the allowed velocity directions). False if not SPD.
 bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out);
 
