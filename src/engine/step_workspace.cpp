@@ -154,13 +154,12 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.iteration_inverse = ws.mass_inverse;
   ws.group_A.clear();
   ws.group_inverse.clear();
-  ws.group_llt.clear();
+  ws.group_factor_inverse.clear();
   for (const std::vector<int>& g : f.stiff_groups) {
     const int k = 6 * static_cast<int>(g.size());
     ws.group_A.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_inverse.push_back(Eigen::MatrixXd::Identity(k, k));
-    ws.group_llt.emplace_back(k);
-    ws.group_llt.back().compute(ws.group_A.back());  // sizes its buffers
+    ws.group_factor_inverse.push_back(Eigen::MatrixXd::Zero(k, k));
   }
 }
 

@@ -101,9 +101,9 @@ class StepWorkspace {
   Eigen::MatrixXd red;     // nred x nred scratch
   Eigen::MatrixXd AB, BT;  // planar scratch: A B (n x nred), B^T (nred x n)
   Eigen::LLT<Eigen::MatrixXd> llt;
-  // Per stiff group (facts.stiff_groups): its block of A, the factor, the inverse.
-  std::vector<Eigen::MatrixXd> group_A, group_inverse;
-  std::vector<Eigen::LLT<Eigen::MatrixXd>> group_llt;
+  // Per stiff group (facts.stiff_groups): its block of A (then its Cholesky factor),
+  // the factor's inverse, the block's inverse.
+  std::vector<Eigen::MatrixXd> group_A, group_factor_inverse, group_inverse;
   Eigen::VectorXd rhs, vk, vfree, vnew;
   Eigen::VectorXd gyro_impulse;  // free velocity: backward-Euler gyroscopic impulses
   Eigen::VectorXd dq;            // projection: the displacement of a pass
