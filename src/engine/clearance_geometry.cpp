@@ -290,6 +290,14 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
     // Centre of the section circles' plane offset: bump_radius inside the face.
     const Vec3 faceIn = cb + (s * (half - rho)) * nb;
     const double mn = m.dot(nb);
+    // No bump of this side within the margin (the usual case: the journal's
+    // axial play is far larger): skip them. Each bump's gap is at least this,
+    // as |m.ui| <= |(m.e1, m.e2)| and its section point is within rho of centre.
+    const double me1 = m.dot(e1), me2 = m.dot(e2);
+    const double tilt = std::sqrt(me1 * me1 + me2 * me2);
+    const double at = std::abs(cj.bump_at), r = std::abs(rho);
+    const double lower = m.dot(faceIn - flange) - at * tilt - r * (std::abs(mn) + tilt);
+    if (lower - margin > 1e-12 + 1e-9 * (at + r)) continue;
     for (int i = 0; i < bumps; ++i) {
       const Vec3 ui = kBumpDirs.c[bumps][i] * e1 + kBumpDirs.s[bumps][i] * e2;
       const Vec3 centre = faceIn + cj.bump_at * ui;
