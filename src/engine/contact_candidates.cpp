@@ -111,7 +111,7 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
   for (int k = 0; k < blk.size; ++k) {
     const int row = blk.row + k;
     const Vec3& d = dirs[k];
-    G.row(row).setZero();
+    // The row is zero outside these columns (clearConstraintRows).
     if (blk.body_a != kGround) {
       const BodyState& a = s.bodies[blk.body_a];
       G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();

@@ -21,8 +21,7 @@ constexpr double kLeastDistanceGrowth = 10;
 // normal row per contact candidate. `ring_hint` starts the ring searches.
 void gatherPositionRows(const Model& m, const State& s, CandidateMode mode, double extra_margin,
                         double* ring_hint, StepWorkspace& ws) {
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
   // Prescribed rates do not matter at the position level.
   appendBilateralRows(m, s, ws.zero_rates, ws);
   findContactCandidates(m, s, 0.0, mode, extra_margin, ring_hint, ws);

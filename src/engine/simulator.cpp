@@ -76,8 +76,7 @@ StepStatus Simulator::step() {
   StepStats& st = out_->stats;
   const double h = set.dt;
   clearStepOutputs(*out_);
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
   for (size_t i = 0; i < state_.commands.size(); ++i)
     ws.rates[i] = (state_.commands[i] - state_.prev_commands[i]) / h;
 
@@ -151,8 +150,7 @@ StepStatus Simulator::step() {
     // the contact search itself, and most callers never read it.
     out_->penetration_pending = true;
   }
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
 
   trackJointAngles(m, state_);
 

@@ -15,6 +15,9 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws);
 void initStepOutputs(const Model& m, StepOutputs& out);
 // Clears the outputs of the last step (sizes kept).
 void clearStepOutputs(StepOutputs& out);
+// Drops the constraint blocks and zeroes their rows of G (the row writers rely
+// on G being zero outside the registered blocks).
+void clearConstraintRows(StepWorkspace& ws);
 // The state at the initial poses and velocities of the model (before assembly).
 State initialState(const Model& m, const StepWorkspace& ws);
 // Assembly (assembly.cpp): positions projected onto the constraints, then the

@@ -163,6 +163,18 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   }
 }
 
+void clearConstraintRows(StepWorkspace& ws) {
+  // G is zero outside the registered blocks' rows and bodies (it starts zero and
+  // every row is written at its block's bodies only), so only those are cleared.
+  for (const ConstraintBlock& blk : ws.blocks)
+    for (int k = blk.row; k < blk.row + blk.size; ++k) {
+      if (blk.body_a != kGround) ws.G.block<1, 6>(k, 6 * blk.body_a).setZero();
+      if (blk.body_b != kGround) ws.G.block<1, 6>(k, 6 * blk.body_b).setZero();
+    }
+  ws.blocks.clear();
+  ws.rows = 0;
+}
+
 void initStepOutputs(const Model& m, StepOutputs& out) {
   out.reports.reserve(3 * (m.contacts.size() * kMaxPointsPerPair +
                            m.clearance_joints.size() * kMaxClearancePoints) + 1);
