@@ -16,8 +16,7 @@ namespace {
 constexpr int kAssemblyPasses = 200;
 
 void assembleVelocities(const Model& m, State& s, StepWorkspace& ws) {
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
   appendBilateralRows(m, s, ws.zero_rates, ws);
   const int r = ws.rows;
   if (r == 0) return;
@@ -39,8 +38,7 @@ void assembleVelocities(const Model& m, State& s, StepWorkspace& ws) {
   ws.vnew = ws.vk;
   ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
   setStateVelocities(s, ws.vnew);
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
 }
 
 }  // namespace

@@ -120,6 +120,24 @@ RingAngle sampleMin(const RingCoef& k, int i) {
   return f1 <= f2 ? a1 : a2;
 }
 
+// Bump directions: cos and sin of 2 pi i / bumps for every count up to kMaxBumps,
+// computed once exactly as the loop below computed them per call (the angle
+// laundered through a volatile so that the compiler cannot fold the trig calls
+// into differently rounded constants).
+struct BumpTable {
+  double c[kMaxBumps + 1][kMaxBumps], s[kMaxBumps + 1][kMaxBumps];
+  BumpTable() {
+    for (int bumps = 1; bumps <= kMaxBumps; ++bumps)
+      for (int i = 0; i < bumps; ++i) {
+        volatile double th = 2 * kPi * i / bumps;
+        const double t = th;
+        c[bumps][i] = std::cos(t);
+        s[bumps][i] = std::sin(t);
+      }
+  }
+};
+const BumpTable kBumpDirs;
+
 double angleDistance(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
 
 // Global minimiser of f; the hint (if finite) starts Newton and breaks ties.
@@ -272,9 +290,16 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
     // Centre of the section circles' plane offset: bump_radius inside the face.
     const Vec3 faceIn = cb + (s * (half - rho)) * nb;
     const double mn = m.dot(nb);
+    // No bump of this side within the margin (the usual case: the journal's
+    // axial play is far larger): skip them. Each bump's gap is at least this,
+    // as |m.ui| <= |(m.e1, m.e2)| and its section point is within rho of centre.
+    const double me1 = m.dot(e1), me2 = m.dot(e2);
+    const double tilt = std::sqrt(me1 * me1 + me2 * me2);
+    const double at = std::abs(cj.bump_at), r = std::abs(rho);
+    const double lower = m.dot(faceIn - flange) - at * tilt - r * (std::abs(mn) + tilt);
+    if (lower - margin > 1e-12 + 1e-9 * (at + r)) continue;
     for (int i = 0; i < bumps; ++i) {
-      const double th = 2 * kPi * i / bumps;
-      const Vec3 ui = std::cos(th) * e1 + std::sin(th) * e2;
+      const Vec3 ui = kBumpDirs.c[bumps][i] * e1 + kBumpDirs.s[bumps][i] * e2;
       const Vec3 centre = faceIn + cj.bump_at * ui;
       // Point of the section circle (plane nb, ui) lowest along m, kept on the
       // outer half (s nb side); an end of the half circle otherwise.

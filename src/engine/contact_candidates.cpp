@@ -81,7 +81,9 @@ void appendContactRows(const Model& m, const State& s, const ContactCandidate& c
     blk.t1 = anyOrthogonal(n);
     blk.t2 = n.cross(blk.t1);
   }
-  writeJacobianRows(c.row_ahead ? ws.predicted : s, blk, ws.G);
+  // The projection modes' rows are written only for a correction (projection.cpp):
+  // most checks find nothing to correct and need the gaps alone.
+  if (!normal_only) writeJacobianRows(c.row_ahead ? ws.predicted : s, blk, ws.G);
   ws.rows += blk.size;
   ws.blocks.push_back(blk);
 }
@@ -109,7 +111,7 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
   for (int k = 0; k < blk.size; ++k) {
     const int row = blk.row + k;
     const Vec3& d = dirs[k];
-    G.row(row).setZero();
+    // The row is zero outside these columns (clearConstraintRows).
     if (blk.body_a != kGround) {
       const BodyState& a = s.bodies[blk.body_a];
       G.block<1, 3>(row, 6 * blk.body_a) = d.transpose();
@@ -134,11 +136,23 @@ void findContactCandidates(const Model& m, const State& s, double h, CandidateMo
   pass.extra_margin = extra_margin;
   pass.eps_act = activationTolerance(m.settings, mode);
   pass.predict = mode == CandidateMode::Step && m.settings.contact_prediction > 0;
+  // The projection's check at q_{k+1} is the next step's q_k unless something
+  // moves the bodies first: it keeps its pairs' points for the step
+  // (narrowphase_cache.hpp).
+  if (mode == CandidateMode::Projection) {
+    pass.cache = CacheUse::Fill;
+    pass.next_h = m.settings.dt;
+    pass.next_eps_act = activationTolerance(m.settings, CandidateMode::Step);
+    ws.narrow.valid = false;
+  } else if (mode == CandidateMode::Step && narrowphaseKeyMatches(ws.narrow, s)) {
+    pass.cache = CacheUse::Read;
+  }
   ws.candidates.clear();
   for (size_t p = 0; p < m.contacts.size(); ++p)
     appendPairCandidates(m, s, static_cast<int>(p), pass, ws);
   for (size_t c = 0; c < m.clearance_joints.size(); ++c)
     appendClearanceCandidates(m, s, static_cast<int>(c), pass, ring_hint + 2 * c, ws);
+  if (pass.cache == CacheUse::Fill) storeNarrowphaseKey(s, ws.narrow);
 }
 
 void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,

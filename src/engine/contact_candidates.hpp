@@ -2,6 +2,7 @@
 // shares with the candidate stage (contact_candidates.cpp). Internal.
 #pragma once
 
+#include "narrowphase_cache.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -13,6 +14,10 @@ struct CandidatePass {
   double extra_margin = 0;  // projection: reach of the correction
   double eps_act = 0;       // gap under which a contact counts as closed
   bool predict = false;     // rows at ws.predicted where the feature is there too
+  // The shape pairs' memo (narrowphase_cache.hpp): the projection fills it wide
+  // enough for the next step's margins (h and eps_act below), the step reads it.
+  CacheUse cache = CacheUse::None;
+  double next_h = 0, next_eps_act = 0;
 };
 
 // The gap under which a contact counts as closed in this mode.

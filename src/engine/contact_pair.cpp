@@ -7,9 +7,7 @@
 #include <limits>
 
 namespace nscd {
-namespace {
 
-// Distance from the body origin beyond which no point of the shape lies.
 double shapeReach(const Shape& sh) {
   double ext = 0;
   switch (sh.type) {
@@ -24,19 +22,21 @@ double shapeReach(const Shape& sh) {
   return sh.pose.p.norm() + ext;
 }
 
-}  // namespace
-
 void appendPairCandidates(const Model& m, const State& s, int p, const CandidatePass& pass,
                           StepWorkspace& ws) {
   const ContactPair& pair = m.contacts[p];
   const BodyState& a = bodyOrGround(s, pair.a.body);
   const BodyState& b = bodyOrGround(s, pair.b.body);
-  const double margin =
-      pass.extra_margin + pass.eps_act +
-      2.0 * pass.h * (speedBound(a, shapeReach(pair.a)) + speedBound(b, shapeReach(pair.b)));
-  const Pose pa = poseOf(a) * pair.a.pose;
-  const Pose pb = poseOf(b) * pair.b.pose;
-  const int np = collide(pair.a, pa, pair.b, pb, margin, ws.points);
+  const std::array<double, 2>& reach = ws.facts.pair_reach[p];
+  const double speeds = speedBound(a, reach[0]) + speedBound(b, reach[1]);
+  const double margin = pass.extra_margin + pass.eps_act + 2.0 * pass.h * speeds;
+  const double next_margin = 0.0 + pass.next_eps_act + 2.0 * pass.next_h * speeds;  // as a Step pass
+  // The shapes' poses only where the points are computed, not taken from the cache.
+  const int np = cachedPairPoints(ws.narrow, pass.cache, p, margin, next_margin, ws.points,
+                                  [&](double mg, ContactPoint* out) {
+                                    return collide(pair.a, poseOf(a) * pair.a.pose, pair.b,
+                                                   poseOf(b) * pair.b.pose, mg, out);
+                                  });
   int nahead = 0;
   if (pass.predict && np > 0) {
     const Pose qa = poseOf(bodyOrGround(ws.predicted, pair.a.body)) * pair.a.pose;

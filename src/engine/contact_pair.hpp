@@ -10,6 +10,8 @@ namespace nscd {
 void appendPairCandidates(const Model& m, const State& s, int p, const CandidatePass& pass,
                           StepWorkspace& ws);
 
+// Distance from the body origin beyond which no point of the shape lies.
+double shapeReach(const Shape& sh);
 // Smallest gap of the pair at the state (m; +inf if no point).
 double contactPairGap(const State& s, const ContactPair& pair);
 

@@ -1,5 +1,7 @@
 // Stage 4b: solve the friction-contact problem (friction_contact_solver.cpp) and
 // apply its impulses: v+ = v_free + Ŵ G^T P.
+#include <cstdint>
+
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -14,7 +16,16 @@ SolverOptions solverOptions(const Settings& set) {
 void applyImpulses(StepWorkspace& ws) {
   const int r = ws.rows;
   ws.vnew = ws.vfree;
-  ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+  if (ws.nbodies > 64) {  // no support masks (assembleDelassus)
+    ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
+    return;
+  }
+  // Column j of Y is nonzero only on the bodies of its support.
+  for (int j = 0; j < r; ++j)
+    for (std::uint64_t m = ws.row_support[j]; m != 0; m &= m - 1) {
+      const int c = __builtin_ctzll(m);
+      ws.vnew.segment<6>(6 * c) += ws.P[j] * ws.Y.block<6, 1>(6 * c, j);
+    }
 }
 
 SolverReport solveFrictionContact(StepWorkspace& ws, SolverOptions& options) {

@@ -3,7 +3,11 @@
 // its 6N columns, so both products are formed from those 6-column pieces only:
 // O(r·12·6N) and O(r²·12) instead of O(r·(6N)²) and O(r²·6N) for dense products.
 // W is filled symmetrically. Ŵ itself is block-diagonal over the bodies, or over
-// the groups of bodies springs and PD actuators join (ModelFacts::coupled).
+// the groups of bodies springs and PD actuators join (ModelFacts::coupled), so
+// W_ij needs only the pieces of row i on bodies where column j of Y is nonzero
+// (none, for rows on bodies Ŵ does not couple).
+#include <cstdint>
+
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -19,10 +23,19 @@ inline double dot6(const double* a, const double* b) {
 
 void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
                       StepWorkspace& ws, int from, int r) {
-  // Bodies of each row (kGround = none).
+  // Bodies of each row (kGround = none), and the bodies where its column of Y
+  // can be nonzero (its bodies' coupled groups; all of them past 64 bodies).
+  const bool masks = ws.nbodies <= 64;
   for (const ConstraintBlock& blk : ws.blocks) {
     const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
-    for (int k = 0; k < blk.size; ++k) ws.row_bodies[blk.row + k] = {blk.body_a, b};
+    std::uint64_t support = masks ? 0 : ~std::uint64_t{0};
+    for (int body : {blk.body_a, b})
+      if (masks && body != kGround)
+        support |= block_diagonal ? std::uint64_t{1} << body : ws.facts.coupled_mask[body];
+    for (int k = 0; k < blk.size; ++k) {
+      ws.row_bodies[blk.row + k] = {blk.body_a, b};
+      ws.row_support[blk.row + k] = support;
+    }
   }
   const int n = ws.n;
   for (int i = from; i < r; ++i) {
@@ -42,23 +55,62 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
   }
   const double* Y = ws.Y.data();
   const Eigen::Index ldy = ws.Y.outerStride();
-  for (int i = from; i < r; ++i) {
-    // Row i's pieces of G (one per body it touches), copied out of G's strided row.
+  // Block by block: a block's rows share their bodies, so each piece of Y's
+  // column j is loaded and tested once for all of them.
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.row < from || blk.row >= r) continue;
+    const int i0 = blk.row, size = blk.size;
+    // The block's pieces of G (one per body it touches), copied out of G's strided rows.
     int off[2];
-    double g[2][6];
+    std::uint64_t bit[2];
+    double g[6][2][6];
     int np = 0;
-    for (int body : ws.row_bodies[i]) {
+    for (int body : ws.row_bodies[i0]) {
       if (body == kGround) continue;
       off[np] = 6 * body;
-      for (int k = 0; k < 6; ++k) g[np][k] = ws.G(i, 6 * body + k);
+      bit[np] = masks ? std::uint64_t{1} << body : ~std::uint64_t{0};
+      for (int a = 0; a < size; ++a)
+        for (int k = 0; k < 6; ++k) g[a][np][k] = ws.G(i0 + a, 6 * body + k);
       ++np;
     }
-    for (int j = 0; j <= i; ++j) {
+    int j0 = 0;
+    if (size == 3) {  // frictional contacts, most rows: fixed-size loops below the block
+      for (; j0 < i0; ++j0) {
+        const std::uint64_t support = ws.row_support[j0];
+        const double* yj = Y + j0 * ldy;
+        double w0 = 0, w1 = 0, w2 = 0;
+        for (int q = 0; q < np; ++q) {
+          if (!(support & bit[q])) continue;
+          const double* y = yj + off[q];
+          w0 += dot6(g[0][q], y);
+          w1 += dot6(g[1][q], y);
+          w2 += dot6(g[2][q], y);
+        }
+        double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
+        wc[i0] = w0;
+        wc[i0 + 1] = w1;
+        wc[i0 + 2] = w2;
+        ws.W(j0, i0) = w0;
+        ws.W(j0, i0 + 1) = w1;
+        ws.W(j0, i0 + 2) = w2;
+      }
+    }
+    for (int j = j0; j < i0 + size; ++j) {
+      // A piece against a body where column j of Y is zero adds +-0 to a sum that
+      // starts at +0: skipping it leaves W bit for bit the same.
+      const std::uint64_t support = ws.row_support[j];
       const double* yj = Y + j * ldy;
-      double w = 0;
-      for (int q = 0; q < np; ++q) w += dot6(g[q], yj + off[q]);
-      ws.W(i, j) = w;
-      ws.W(j, i) = w;
+      const int first = j > i0 ? j - i0 : 0;  // W_ij for i >= j only
+      double w[6] = {0, 0, 0, 0, 0, 0};
+      for (int q = 0; q < np; ++q) {
+        if (!(support & bit[q])) continue;
+        const double* y = yj + off[q];
+        for (int a = first; a < size; ++a) w[a] += dot6(g[a][q], y);
+      }
+      for (int a = first; a < size; ++a) {
+        ws.W(i0 + a, j) = w[a];
+        ws.W(j, i0 + a) = w[a];
+      }
     }
   }
 }

@@ -28,14 +28,14 @@ void addGyroscopicImpulses(const Model& m, double h, StepWorkspace& ws) {
     ws.gyro_impulse.segment<3>(6 * i + 3) = J * (w - wf);
     any = true;
   }
-  if (any) ws.vfree.noalias() += ws.iteration_inverse * ws.gyro_impulse;
+  if (any) addIterationInverseTimes(ws, ws.gyro_impulse, ws.vfree);
 }
 
 }  // namespace
 
 void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws) {
   ws.vfree = ws.vk;
-  ws.vfree.noalias() += ws.iteration_inverse * ws.rhs;
+  addIterationInverseTimes(ws, ws.rhs, ws.vfree);
   addGyroscopicImpulses(m, h, ws);
 }
 

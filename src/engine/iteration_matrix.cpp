@@ -2,6 +2,8 @@
 // implicit: A = M - h theta C - h^2 theta^2 K (C = dF/dv, K = dF/dq, symmetric
 // parts), rhs = h F + h^2 theta K v_k, and Ŵ = A^-1 maps impulses to velocity
 // changes. Without such elements A = M and Ŵ = M^-1, computed once at set-up.
+#include <cmath>
+
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -24,12 +26,66 @@ bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd
   return true;
 }
 
+namespace {
+
+// The inverse of a small SPD matrix from its Cholesky factor, A = L Lᵀ, A⁻¹ =
+// L⁻ᵀ L⁻¹: plain loops, where Eigen's dynamic-size LLT and triangular solves
+// spent most of their time setting up on 6 x 6 and 12 x 12 blocks. A is
+// overwritten by L (lower triangle); Li gets L⁻¹. False (A not positive
+// definite, as Eigen's LLT would say) leaves inv unset.
+bool spdInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, Eigen::MatrixXd& inv) {
+  const int n = static_cast<int>(A.rows());
+  for (int j = 0; j < n; ++j) {
+    double d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    if (!(d > 0)) return false;
+    const double ljj = std::sqrt(d);
+    A(j, j) = ljj;
+    for (int i = j + 1; i < n; ++i) {
+      double sum = A(i, j);
+      for (int k = 0; k < j; ++k) sum -= A(i, k) * A(j, k);
+      A(i, j) = sum / ljj;
+    }
+  }
+  for (int c = 0; c < n; ++c) {
+    Li(c, c) = 1.0 / A(c, c);
+    for (int i = c + 1; i < n; ++i) {
+      double sum = 0;
+      for (int k = c; k < i; ++k) sum += A(i, k) * Li(k, c);
+      Li(i, c) = -sum / A(i, i);
+    }
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i) {
+      double sum = 0;
+      for (int k = i; k < n; ++k) sum += Li(k, i) * Li(k, j);
+      inv(i, j) = sum;
+      inv(j, i) = sum;
+    }
+  return true;
+}
+
+}  // namespace
+
+void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
+                              Eigen::VectorXd& y) {
+  // Ŵ couples a body only with those of its stiff group: its 6 x 6 blocks there.
+  for (int b = 0; b < ws.nbodies; ++b)
+    for (int c : ws.facts.coupled[b])
+      y.segment<6>(6 * c).noalias() += ws.iteration_inverse.block<6, 6>(6 * c, 6 * b) * x.segment<6>(6 * b);
+}
+
 void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st) {
   const double theta = m.settings.theta;
   const int n = ws.n;
   ws.rhs.noalias() = h * ws.F;
   if (!ws.facts.stiff) return;
-  ws.rhs.noalias() += (h * h * theta) * ws.K * ws.vk;
+  // K is nonzero only within the stiff groups (forces.cpp).
+  for (const std::vector<int>& g : ws.facts.stiff_groups)
+    for (int br : g)
+      for (int bc : g)
+        ws.rhs.segment<6>(6 * br).noalias() +=
+            (h * h * theta) * (ws.K.block<6, 6>(6 * br, 6 * bc) * ws.vk.segment<6>(6 * bc));
   if (!ws.facts.planar) {
     // C and K couple only the bodies of a stiff group, so A is block-diagonal over
     // the groups, and every other body's block is M's: Ŵ is M^-1 there (set up
@@ -55,15 +111,11 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
                                            h * h * theta * theta * ws.K(r0 + r, c0 + c);
             }
         }
-      Eigen::LLT<Eigen::MatrixXd>& llt = ws.group_llt[g];
-      llt.compute(Ag);
-      if (llt.info() != Eigen::Success) {
+      Eigen::MatrixXd& inv = ws.group_inverse[g];
+      if (!spdInverse(Ag, ws.group_factor_inverse[g], inv)) {
         ok = false;
         break;
       }
-      Eigen::MatrixXd& inv = ws.group_inverse[g];
-      inv.setIdentity();
-      llt.solveInPlace(inv);
       for (int bc = 0; bc < k; ++bc)
         for (int br = 0; br < k; ++br)
           ws.iteration_inverse.block<6, 6>(6 * bodies[br], 6 * bodies[bc]) =

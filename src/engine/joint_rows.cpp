@@ -27,7 +27,7 @@ JointPlacement placeJoint(const Joint& j, const State& s) {
 void putRow(Eigen::MatrixXd& G, int row, const State& s, int body_a, int body_b,
             const Vec3& lin_b, const Vec3& ang_b_world, const Vec3& lin_a,
             const Vec3& ang_a_world) {
-  G.row(row).setZero();
+  // The row is zero (clearConstraintRows); body_a may be body_b, hence +=.
   if (body_b != kGround) {
     const BodyState& b = s.bodies[body_b];
     G.block<1, 3>(row, 6 * body_b) = lin_b.transpose();

@@ -21,8 +21,7 @@ constexpr double kLeastDistanceGrowth = 10;
 // normal row per contact candidate. `ring_hint` starts the ring searches.
 void gatherPositionRows(const Model& m, const State& s, CandidateMode mode, double extra_margin,
                         double* ring_hint, StepWorkspace& ws) {
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
   // Prescribed rates do not matter at the position level.
   appendBilateralRows(m, s, ws.zero_rates, ws);
   findContactCandidates(m, s, 0.0, mode, extra_margin, ring_hint, ws);
@@ -114,6 +113,7 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     const int r = ws.rows;
     ws.problem.clear();
     for (ConstraintBlock& blk : ws.blocks) {
+      if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
       ProblemBlock pb;
       pb.kind = blk.kind;
       pb.row = blk.row;

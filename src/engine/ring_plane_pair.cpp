@@ -45,6 +45,10 @@ int arcAgainstPlane(const Vec3& c, const Vec3& e1, const Vec3& e2, double r, dou
                     double hy, int base, double margin, ContactPoint* out, int n) {
   const double a = m.dot(e1), b = m.dot(e2);
   const double rho = std::sqrt(a * a + b * b);
+  // No point of the ring is lower than this: none within the margin (emit()
+  // would keep none), so the points are not computed.
+  const double lowest = m.dot(c - p0) - std::abs(r) * rho;
+  if (lowest - margin > 1e-12 + 1e-9 * std::abs(r)) return n;
   const bool full = fullCircle(span);
   if (rho > kParallel) {
     const double deepest = std::atan2(-b, -a);

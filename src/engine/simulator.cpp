@@ -36,6 +36,7 @@ Simulator::~Simulator() = default;
 
 void Simulator::reset() {
   state_ = initial_state_;
+  ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
 
@@ -56,6 +57,7 @@ void Simulator::setState(const State& s) {
   for (double a : s.joint_angle) finite = finite && std::isfinite(a);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
   state_ = s;
+  ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
 
@@ -74,8 +76,7 @@ StepStatus Simulator::step() {
   StepStats& st = out_->stats;
   const double h = set.dt;
   clearStepOutputs(*out_);
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
   for (size_t i = 0; i < state_.commands.size(); ++i)
     ws.rates[i] = (state_.commands[i] - state_.prev_commands[i]) / h;
 
@@ -149,8 +150,7 @@ StepStatus Simulator::step() {
     // the contact search itself, and most callers never read it.
     out_->penetration_pending = true;
   }
-  ws.blocks.clear();
-  ws.rows = 0;
+  clearConstraintRows(ws);
 
   trackJointAngles(m, state_);
 

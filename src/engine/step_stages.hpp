@@ -15,6 +15,9 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws);
 void initStepOutputs(const Model& m, StepOutputs& out);
 // Clears the outputs of the last step (sizes kept).
 void clearStepOutputs(StepOutputs& out);
+// Drops the constraint blocks and zeroes their rows of G (the row writers rely
+// on G being zero outside the registered blocks).
+void clearConstraintRows(StepWorkspace& ws);
 // The state at the initial poses and velocities of the model (before assembly).
 State initialState(const Model& m, const StepWorkspace& ws);
 // Assembly (assembly.cpp): positions projected onto the constraints, then the
@@ -39,6 +42,9 @@ Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
 // and Ŵ = (M - h theta C - h^2 theta^2 K)^-1 when the model has stiff elements
 // (else Ŵ = M^-1). Needs ws.vk.
 void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st);
+// y += Ŵ x, from Ŵ's blocks within the stiff groups (it couples no others).
+void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
+                              Eigen::VectorXd& y);
 // B (B^T A B)^-1 B^T (B: the allowed velocity directions). False if not SPD.
 bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd& out);
 
@@ -73,7 +79,8 @@ void findContactCandidates(const Model& m, const State& s, double h, CandidateMo
                            double extra_margin, double* ring_hint, StepWorkspace& ws);
 // Activation and rows: in Step mode, a candidate whose gap closes within the step
 // (predicted from v_k, or from v_free) gets its rows, the others wait in
-// ws.deferred; in the projection modes every candidate gets a normal row.
+// ws.deferred; in the projection modes every candidate gets a normal row, whose
+// Jacobian row in G is left for the caller to write (writeJacobianRows).
 void activateContacts(const Model& m, const State& s, double h, CandidateMode mode,
                       StepWorkspace& ws);
 // Deferred candidates that close under the solved velocity ws.vnew (g + h

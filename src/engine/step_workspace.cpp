@@ -3,6 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "contact_pair.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -69,6 +70,9 @@ void findStiffGroups(const Model& m, ModelFacts& f) {
   for (int i = 0; i < nb; ++i) f.coupled[i] = {i};
   for (const std::vector<int>& g : f.stiff_groups)
     for (int i : g) f.coupled[i] = g;
+  f.coupled_mask.assign(nb, 0);
+  for (int i = 0; i < nb && nb <= 64; ++i)
+    for (int c : f.coupled[i]) f.coupled_mask[i] |= std::uint64_t{1} << c;
 }
 
 }  // namespace
@@ -84,6 +88,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   f.contact_slot_base_clearance = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair;
   f.stiff = hasStiffElements(m);
   f.planar = m.settings.planar == PlanarMode::XY;
+  f.pair_reach.clear();
+  for (const ContactPair& pair : m.contacts) f.pair_reach.push_back({shapeReach(pair.a), shapeReach(pair.b)});
   findStiffGroups(m, f);
   // A body driven with constrain="axis" counts too: scaling its velocity to take
   // energy back would break the prescribed rate along its axis.
@@ -114,7 +120,9 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());
   ws.deferred.reserve(f.contact_slots);
   ws.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
+  initNarrowphaseCache(ws.nbodies, static_cast<int>(m.contacts.size()), ws.narrow);
   ws.row_bodies.assign(mr, {kGround, kGround});
+  ws.row_support.assign(mr, 0);
   ws.problem.reserve(mr);
   ws.rates.assign(m.actuators.size(), 0.0);
   ws.zero_rates.assign(m.actuators.size(), 0.0);
@@ -146,14 +154,25 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.iteration_inverse = ws.mass_inverse;
   ws.group_A.clear();
   ws.group_inverse.clear();
-  ws.group_llt.clear();
+  ws.group_factor_inverse.clear();
   for (const std::vector<int>& g : f.stiff_groups) {
     const int k = 6 * static_cast<int>(g.size());
     ws.group_A.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_inverse.push_back(Eigen::MatrixXd::Identity(k, k));
-    ws.group_llt.emplace_back(k);
-    ws.group_llt.back().compute(ws.group_A.back());  // sizes its buffers
+    ws.group_factor_inverse.push_back(Eigen::MatrixXd::Zero(k, k));
   }
+}
+
+void clearConstraintRows(StepWorkspace& ws) {
+  // G is zero outside the registered blocks' rows and bodies (it starts zero and
+  // every row is written at its block's bodies only), so only those are cleared.
+  for (const ConstraintBlock& blk : ws.blocks)
+    for (int k = blk.row; k < blk.row + blk.size; ++k) {
+      if (blk.body_a != kGround) ws.G.block<1, 6>(k, 6 * blk.body_a).setZero();
+      if (blk.body_b != kGround) ws.G.block<1, 6>(k, 6 * blk.body_b).setZero();
+    }
+  ws.blocks.clear();
+  ws.rows = 0;
 }
 
 void initStepOutputs(const Model& m, StepOutputs& out) {

@@ -1,11 +1,13 @@
 // The data of a time step, internal to the engine: the preallocated buffers the
 // stages share (StepWorkspace), what a step reports (StepOutputs), and the
 // constraint rows they pass along. Dynamic state lives in State (simulator.hpp);
-// nothing here carries information from one step to the next, except outputs.
+// nothing here carries information from one step to the next, except outputs
+// and the narrowphase memo, keyed on the poses (narrowphase_cache.hpp).
 // The stage functions are declared in step_stages.hpp.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -15,6 +17,7 @@
 #include "nscd_sim/contact_geometry.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "narrowphase_cache.hpp"
 
 namespace nscd {
 
@@ -72,6 +75,8 @@ struct ModelFacts {
   // Per body: the bodies Ŵ couples it with, itself included, ascending (its
   // stiff group, or itself alone).
   std::vector<std::vector<int>> coupled;
+  std::vector<std::uint64_t> coupled_mask;  // the same as bits (models of up to 64 bodies)
+  std::vector<std::array<double, 2>> pair_reach;  // per contact pair: shapeReach of a and b
   bool planar = false;   // x-y plane motions only
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
@@ -96,9 +101,9 @@ class StepWorkspace {
   Eigen::MatrixXd red;     // nred x nred scratch
   Eigen::MatrixXd AB, BT;  // planar scratch: A B (n x nred), B^T (nred x n)
   Eigen::LLT<Eigen::MatrixXd> llt;
-  // Per stiff group (facts.stiff_groups): its block of A, the factor, the inverse.
-  std::vector<Eigen::MatrixXd> group_A, group_inverse;
-  std::vector<Eigen::LLT<Eigen::MatrixXd>> group_llt;
+  // Per stiff group (facts.stiff_groups): its block of A (then its Cholesky factor),
+  // the factor's inverse, the block's inverse.
+  std::vector<Eigen::MatrixXd> group_A, group_factor_inverse, group_inverse;
   Eigen::VectorXd rhs, vk, vfree, vnew;
   Eigen::VectorXd gyro_impulse;  // free velocity: backward-Euler gyroscopic impulses
   Eigen::VectorXd dq;            // projection: the displacement of a pass
@@ -116,6 +121,7 @@ class StepWorkspace {
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
+  std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
   Eigen::MatrixXd G;       // max_rows x n
   Eigen::MatrixXd Y;       // n x max_rows: Ŵ G^T
@@ -125,6 +131,9 @@ class StepWorkspace {
   FrictionContactSolver solver;
   int rows = 0;
 
+  // The shape pairs' points of the projection's last pass, for the next step's
+  // (keyed on the poses: a memo, not state).
+  NarrowphaseCache narrow;
   ContactPoint points[kMaxClearancePoints];
   ContactPoint points_ahead[kMaxClearancePoints];  // the same pair at ws.predicted
 };
