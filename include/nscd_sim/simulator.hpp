@@ -70,6 +70,9 @@ struct StepStats {
   bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
+  // Its effect on the step: the kinetic energy after the fallback minus that of the
+  // unsolved answer it replaced, relative to the kinetic energy of v_free (0 if none).
+  double fallback_kinetic_change = 0;
   bool energy_capped = false;   // still unsolved: impulses scaled so they add no kinetic energy
   // Potential energy the projection added beyond the inputs' work in the step,
   // taken back from the kinetic energy (J; see Simulator::step).

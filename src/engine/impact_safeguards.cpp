@@ -81,6 +81,7 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
   if (!rep.converged && st.active_contacts > 0 &&
       (!(rep.residual <= kFrictionlessFallbackResidual) || impulsesGainEnergy(m, ws, kUnsolvedEnergyGain, false))) {
     // Frictionless and plastic; the problem blocks are rebuilt by the next assembly.
+    const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     if (!plastic) removeRestitution(ws);
     for (ProblemBlock& pb : ws.problem) pb.mu = 0;
     const SolverReport rep0 = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
@@ -90,6 +91,8 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
       rep.converged = false;  // the step's own problem stays unsolved: reported
       applyImpulses(ws);
       st.frictionless_fallback = true;
+      st.fallback_kinetic_change =
+          (kineticEnergyOf(m, ws.vnew) - k_unsolved) / (kineticEnergyOf(m, ws.vfree) + 1e-300);
     }
   }
   if (!rep.converged && !(rep.residual <= kFrictionlessFallbackResidual)) {

@@ -45,6 +45,10 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       r.iters_max = std::max(r.iters_max, s.iterations);
       if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
       r.frictionless_fallbacks += s.frictionless_fallback;
+      if (s.frictionless_fallback && std::isfinite(s.fallback_kinetic_change)) {
+        r.fallback_gain_max = std::max(r.fallback_gain_max, s.fallback_kinetic_change);
+        r.fallback_loss_max = std::max(r.fallback_loss_max, -s.fallback_kinetic_change);
+      }
       r.energy_capped_steps += s.energy_capped;
       if (st == StepStatus::NonFinite) {
         r.status = "nonfinite";

@@ -48,6 +48,9 @@ struct CaseMetrics {
   // Kept for the JSON summary (CaseOptions::summary_json), not in the CSV row.
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;
+  // The fallbacks' effect: the largest kinetic-energy gain and loss one caused against
+  // the unsolved answer it replaced, relative to K(v_free) (StepStats).
+  double fallback_gain_max = 0, fallback_loss_max = 0;
 };
 
 // Runs a copy of `model` for opts.duration; never throws (errors go to status).
