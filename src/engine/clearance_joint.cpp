@@ -4,6 +4,7 @@
 #include "clearance_joint.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace nscd {
 
@@ -15,9 +16,35 @@ void appendClearanceCandidates(const Model& m, const State& s, int c, const Cand
   const BodyState& jr = bodyOrGround(s, cj.journal_body);
   const double reach = std::max(cj.bearing_center.norm(), cj.journal_center.norm()) +
                        std::max(cj.bump_at, cj.radius + cj.radial) + cj.length;
-  const double margin = pass.extra_margin + pass.eps_act +
-                        2.0 * pass.h * (speedBound(br, reach) + speedBound(jr, reach));
-  const int np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar, hint, ws.points);
+  const double speeds = speedBound(br, reach) + speedBound(jr, reach);
+  const double margin = pass.extra_margin + pass.eps_act + 2.0 * pass.h * speeds;
+  // The projection's check keeps its points for the next step, wide enough for
+  // that step's margin, with the hints (narrowphase_cache.hpp).
+  NarrowphaseCache& memo = ws.narrow;
+  ContactPoint* slots = memo.cj_points.data() + c * kMaxClearancePoints;
+  double* hint_in = memo.cj_hint_in.data() + 2 * c;
+  double* hint_out = memo.cj_hint_out.data() + 2 * c;
+  int np = 0;
+  if (pass.cache == CacheUse::Read && margin <= memo.cj_margin[c] &&
+      std::memcmp(hint, hint_in, 2 * sizeof(double)) == 0) {
+    for (int k = 0; k < memo.cj_count[c]; ++k)
+      if (slots[k].gap < margin) ws.points[np++] = slots[k];
+    hint[0] = hint_out[0];
+    hint[1] = hint_out[1];
+  } else if (pass.cache == CacheUse::Fill) {
+    const double next_margin = 0.0 + pass.next_eps_act + 2.0 * pass.next_h * speeds;  // as a Step pass
+    const double wide = next_margin > margin ? next_margin : margin;
+    memo.cj_margin[c] = wide;
+    hint_in[0] = hint[0];
+    hint_in[1] = hint[1];
+    memo.cj_count[c] = clearanceContacts(cj, poseOf(br), poseOf(jr), wide, planar, hint, slots);
+    hint_out[0] = hint[0];
+    hint_out[1] = hint[1];
+    for (int k = 0; k < memo.cj_count[c]; ++k)
+      if (slots[k].gap < margin) ws.points[np++] = slots[k];
+  } else {
+    np = clearanceContacts(cj, poseOf(br), poseOf(jr), margin, planar, hint, ws.points);
+  }
   int nahead = 0;
   double hint_ahead[2] = {hint[0], hint[1]};  // a copy: q_k's hints stay
   if (pass.predict && np > 0)

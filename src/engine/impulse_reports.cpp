@@ -3,6 +3,8 @@
 // the effort they needed; every contact point gets a report (forces = impulse /
 // h, the gap at the end of the step to first order), summed per named contact
 // and per clearance joint.
+#include <algorithm>
+
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -37,7 +39,16 @@ void storeImpulses(const Model& m, double h, State& s, const StepWorkspace& ws,
     rep.ft = (p[1] * blk.t1 + p[2] * blk.t2) / h;
     rep.sliding = blk.size == 3 && p[0] > 0 && p.tail<2>().norm() >= c.mu * p[0] * (1 - 1e-6);
     // Gap at the end of the step, to first order in the motion.
-    const double un = ws.G.row(blk.row).dot(theta * ws.vnew + (1 - theta) * ws.vk);
+    // G's row is zero outside its bodies' columns: the sum over those, in
+    // ascending columns from +0, is the full row's (Eigen sums a strided row in
+    // order; the skipped terms are +-0).
+    double un = 0;
+    const int b0 = std::min(blk.body_a, blk.body_b), b1 = std::max(blk.body_a, blk.body_b);
+    for (int body : {b0, b1}) {
+      if (body == kGround || (body == b0 && b0 == b1)) continue;  // kGround < every body
+      for (int k = 6 * body; k < 6 * body + 6; ++k)
+        un += ws.G(blk.row, k) * (theta * ws.vnew[k] + (1 - theta) * ws.vk[k]);
+    }
     rep.gap = c.cp.gap + h * un;
     out.reports.push_back(rep);
     if (c.clearance) {

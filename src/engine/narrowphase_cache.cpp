@@ -6,13 +6,18 @@
 
 namespace nscd {
 
-void initNarrowphaseCache(int bodies, int pairs, NarrowphaseCache& c) {
+void initNarrowphaseCache(int bodies, int pairs, int clearance_joints, NarrowphaseCache& c) {
   c.valid = false;
   c.x.assign(bodies, Vec3::Zero());
   c.q.assign(bodies, Quat::Identity());
   c.margin.assign(pairs, 0.0);
   c.count.assign(pairs, 0);
   c.points.assign(static_cast<size_t>(pairs) * kMaxPointsPerPair, ContactPoint());
+  c.cj_margin.assign(clearance_joints, 0.0);
+  c.cj_hint_in.assign(2 * clearance_joints, 0.0);
+  c.cj_hint_out.assign(2 * clearance_joints, 0.0);
+  c.cj_count.assign(clearance_joints, 0);
+  c.cj_points.assign(static_cast<size_t>(clearance_joints) * kMaxClearancePoints, ContactPoint());
 }
 
 void storeNarrowphaseKey(const State& s, NarrowphaseCache& c) {

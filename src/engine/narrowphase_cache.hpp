@@ -8,13 +8,20 @@
 // bit the one the projection's pass saw, and a pair's narrowphase at margin M is
 // the one at a larger margin M' with the points of gap >= M dropped (the margin is
 // a filter; the ring-cylinder early-out is a lower bound), unless the wider pass
-// filled all kMaxPointsPerPair points (then it is computed again). Clearance
-// joints are not kept: their ring search starts Newton from the hint the last
-// search left, so a second search at the same poses differs in round-off.
+// filled all kMaxPointsPerPair points (then it is computed again).
+//
+// Clearance joints too: their ring search starts Newton from a hint and leaves
+// its answer there, so an entry also keys on the hints the search started from
+// and keeps the hints it left. The projection's last check leaves the state's
+// hints where it found them (projection.cpp), so the next step's search would
+// start from the same hints: reading the entry is then exact, and a state handed
+// to another simulator (no cache) steps to the same bits. Their points are never
+// capped (kMaxClearancePoints).
 #pragma once
 
 #include <vector>
 
+#include "nscd_sim/clearance_geometry.hpp"
 #include "nscd_sim/contact_geometry.hpp"
 #include "nscd_sim/simulator.hpp"
 
@@ -30,10 +37,15 @@ struct NarrowphaseCache {
   std::vector<double> margin;
   std::vector<int> count;
   std::vector<ContactPoint> points;
+  // Per clearance joint, the same (kMaxClearancePoints slots each), and its 2
+  // ring hints before and after the search.
+  std::vector<double> cj_margin, cj_hint_in, cj_hint_out;
+  std::vector<int> cj_count;
+  std::vector<ContactPoint> cj_points;
 };
 
-// Sizes the cache for a model's bodies and contact pairs (invalid).
-void initNarrowphaseCache(int bodies, int pairs, NarrowphaseCache& c);
+// Sizes the cache for a model's bodies, contact pairs and clearance joints (invalid).
+void initNarrowphaseCache(int bodies, int pairs, int clearance_joints, NarrowphaseCache& c);
 // Records the key: the state's poses.
 void storeNarrowphaseKey(const State& s, NarrowphaseCache& c);
 // True if the cache is valid and keyed exactly on these poses.

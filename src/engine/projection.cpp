@@ -99,11 +99,17 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
   for (int pass = 0;; ++pass) {
+    ws.check_hint = s.ring_hint;  // same size: no allocation
     gatherPositionRows(m, s, mode, extra, hint, ws);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
-    if (violation <= tol || pass >= max_passes) return pass;
+    if (violation <= tol || pass >= max_passes) {
+      // The last check leaves the ring hints as it found them: the next step's
+      // search starts where this one did, and may take its points (exact).
+      s.ring_hint = ws.check_hint;
+      return pass;
+    }
     // Contacts within reach of the correction join the problem so that fixing
     // one violation does not create another.
     if (extra < 2 * violation) {

@@ -120,7 +120,9 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());
   ws.deferred.reserve(f.contact_slots);
   ws.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
-  initNarrowphaseCache(ws.nbodies, static_cast<int>(m.contacts.size()), ws.narrow);
+  ws.check_hint = ws.ring_hint;
+  initNarrowphaseCache(ws.nbodies, static_cast<int>(m.contacts.size()),
+                       static_cast<int>(m.clearance_joints.size()), ws.narrow);
   ws.row_bodies.assign(mr, {kGround, kGround});
   ws.row_support.assign(mr, 0);
   ws.problem.reserve(mr);

@@ -117,6 +117,7 @@ class StepWorkspace {
   std::vector<ContactCandidate> candidates;
   std::vector<ContactCandidate> deferred;
   std::vector<double> ring_hint;  // ring angles the pass starts from (2 per clearance joint)
+  std::vector<double> check_hint;  // projection: the ring hints before its check
 
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
