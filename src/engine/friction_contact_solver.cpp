@@ -249,6 +249,24 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
   // far out along the null space of W (hyperstatic sets), where the Newton
   // stalls; from a clean start it mostly converges.
   int firstSweeps = 0;  // sweeps before the first Newton attempt
+  // A Newton from another start (P = 0 if start is null), one sweep on; the best
+  // iterate so far stays on offer. True if the solve is over (converged, or a
+  // non-finite sweep).
+  const auto newtonFrom = [&](const double* start) {
+    const int m = run.m;
+    const double bestBefore = run.bestAll;
+    ws.Pouter.head(m) = ws.Pbest.head(m);
+    if (start) run.P.head(m) = Eigen::Map<const Eigen::VectorXd>(start, m);
+    else run.P.head(m).setZero();
+    setUpRun(run, run.maxDiag);
+    if (bestBefore < run.bestAll) {
+      run.bestAll = bestBefore;
+      ws.Pbest.head(m) = ws.Pouter.head(m);
+    }
+    if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return true;
+    ws.Pstart.head(m) = run.P.head(m);
+    return runNewton(run);
+  };
   const auto tryNewton = [&] {
     if (++attempts == 1) firstSweeps = rep.sweeps;
     if (runNewton(run)) return;
@@ -256,33 +274,14 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
     if (attempts == kNewtonAttempts && runProximal(true)) return;
     resumeNsgs(run);
     if (attempts != 1) return;
-    const double bestBefore = run.bestAll;  // the best iterate so far stays on offer
-    ws.Pouter.head(run.m) = ws.Pbest.head(run.m);
-    run.P.head(run.m).setZero();
-    setUpRun(run, run.maxDiag);
-    if (bestBefore < run.bestAll) {
-      run.bestAll = bestBefore;
-      ws.Pbest.head(run.m) = ws.Pouter.head(run.m);
-    }
-    if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return;
-    ws.Pstart.head(run.m) = run.P.head(run.m);
-    if (runNewton(run)) return;
+    const double bestBefore = run.bestAll;
+    if (newtonFrom(nullptr)) return;
     // A third start: the warm start, one sweep on, when the first one was many
     // sweeps away from it (a C-60 handle step: the Newton converges in 31
     // iterations from there, and from neither of the other two).
-    if (firstSweeps > 1 && ws.Pinitial.head(run.m).cwiseAbs().maxCoeff() > 0) {
-      const double bestNow = run.bestAll;
-      ws.Pouter.segment(run.m, run.m) = ws.Pbest.head(run.m);
-      run.P.head(run.m) = ws.Pinitial.head(run.m);
-      setUpRun(run, run.maxDiag);
-      if (bestNow < run.bestAll) {
-        run.bestAll = bestNow;
-        ws.Pbest.head(run.m) = ws.Pouter.segment(run.m, run.m);
-      }
-      if (!runNsgs(run, rep.sweeps + 1) || rep.converged) return;
-      ws.Pstart.head(run.m) = run.P.head(run.m);
-      if (runNewton(run)) return;
-    }
+    if (firstSweeps > 1 && ws.Pinitial.head(run.m).cwiseAbs().maxCoeff() > 0 &&
+        newtonFrom(ws.Pinitial.data()))
+      return;
     // All starts failed: the sweeps go on from the best iterate so far.
     if (run.bestAll < bestBefore || run.bestAll >= run.err) {
       resumeNsgs(run);
