@@ -67,6 +67,42 @@ TEST(Stages, ForcesOfGravityAndALinearSpring) {
   EXPECT_NEAR(t.ws.K(1, 1), -50.6, 1e-3);
 }
 
+// An undamped linear spring's K is computed in closed form (forces.cpp); it must be
+// the symmetric part of dF/dq, here by central differences of F through the same
+// perturbations (x += eps, q <- q exp(phi)), on a turned box with the spring's end
+// off its centre (so the torque rows and the orientation columns matter), within
+// the differences' own error.
+TEST(Stages, UndampedSpringStiffnessMatchesDifferences) {
+  Stages t(boxScene(R"(<spring name="s" type="linear" stiffness="100" rest_length="0.5">
+      <end link="box" xyz="0.05 0.02 -0.03"/><end link="world" xyz="-1 0.3 1"/></spring>
+      <simulation gravity="0 0 0"/>)"));
+  t.s.bodies[0].q = expMap(Vec3(0.3, -0.5, 0.7));
+  computeForces(t.m, t.s, t.ws, t.out, true);
+  const Eigen::Matrix<double, 6, 6> K = t.ws.K.topLeftCorner<6, 6>();
+  Eigen::Matrix<double, 6, 6> D;
+  const double eps = 1e-6;
+  for (int dof = 0; dof < 6; ++dof) {
+    Eigen::Matrix<double, 6, 1> f[2];
+    for (int side = 0; side < 2; ++side) {
+      State p = t.s;
+      const double e = side ? -eps : eps;
+      if (dof < 3) {
+        p.bodies[0].x[dof] += e;
+      } else {
+        Vec3 phi = Vec3::Zero();
+        phi[dof - 3] = e;
+        p.bodies[0].q = (p.bodies[0].q * expMap(phi)).normalized();
+      }
+      computeForces(t.m, p, t.ws, t.out, false);
+      f[side] = t.ws.F.head<6>();
+    }
+    D.col(dof) = (f[0] - f[1]) / (2 * eps);
+  }
+  const Eigen::Matrix<double, 6, 6> Dsym = 0.5 * (D + D.transpose());
+  EXPECT_GT(K.norm(), 10.0);  // the spring is stretched and turned: K is not trivial
+  EXPECT_LT((K - Dsym).norm(), 1e-6 * K.norm()) << "K\n" << K << "\ndifferences\n" << Dsym;
+}
+
 // A PD actuator on a revolute joint: effort kp (cmd - angle) - kd rate about the
 // axis, on the child, the opposite on the parent (ground here).
 TEST(Stages, ForcesOfAPositionActuator) {
