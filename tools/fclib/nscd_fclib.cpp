@@ -16,6 +16,9 @@
 // as converged if it says so and the measured error is within the tolerance.
 //        nscd_fclib --convert IN.dat OUT.hdf5 [--title TEXT] [--description TEXT]
 //        nscd_fclib --from-nscd IN.txt OUT.hdf5 [--title TEXT] [--description TEXT]
+//        nscd_fclib --to-nscd IN.hdf5 OUT.txt
+// --to-nscd writes an FCLib problem as an nscd problem file (P_start = P = 0),
+// for nscd_solve_problems and the tests.
 // --from-nscd takes a problem file of `nscd_run --dump-problems`: its bilateral
 // rows are condensed out (Schur complement; a singular equality block by its
 // pseudo-inverse), a frictionless contact becomes a 3-row contact with mu = 0
@@ -380,6 +383,28 @@ int convert(const char* in, const char* out, const std::string& title, const std
 }
 #endif
 
+int toNscd(const char* in, const char* out) {
+  LocalProblem p;
+  if (!readProblem(in, p)) {
+    std::fprintf(stderr, "%s: not a readable FCLib local or global problem\n", in);
+    return 1;
+  }
+  Eigen::MatrixXd W;
+  Eigen::VectorXd b;
+  std::vector<nscd::ProblemBlock> blocks;
+  toOurs(p, W, b, blocks);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(b.size());
+  nscd::SolverReport none;
+  try {
+    nscd::writeProblemFile(out, nscd::ProblemView{0, 0, W, b, blocks, zero, zero, none});
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  std::printf("-> %s (%d contacts)\n", out, p.contacts);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -387,7 +412,7 @@ int main(int argc, char** argv) {
   long max_iter = 10000;
   double min_ms = 20;
   std::string csv_path, title, descr, convert_in, convert_out, measure = "siconos";
-  std::string from_in, from_out;
+  std::string from_in, from_out, to_in, to_out;
   std::string storage = "best";  // of W for the Siconos solvers: sparse, dense or the faster
   std::vector<std::string> siconos_names{"nsgs", "nsn_ac", "nsn_fb", "prox"};
   std::vector<const char*> files;
@@ -417,6 +442,9 @@ int main(int argc, char** argv) {
     } else if (a == "--from-nscd") {
       from_in = next();
       from_out = next();
+    } else if (a == "--to-nscd") {
+      to_in = next();
+      to_out = next();
     } else if (a == "--title") title = next();
     else if (a == "--description") descr = next();
     else if (!a.empty() && a[0] == '-') {
@@ -425,12 +453,14 @@ int main(int argc, char** argv) {
                    "[--csv FILE] [--min-ms T] [--measure siconos|nscd] [--siconos-storage best|sparse|dense] "
                    "PROBLEM.hdf5...\n"
                    "       %s --convert IN.dat OUT.hdf5 [--title T] [--description D]\n"
-                   "       %s --from-nscd IN.txt OUT.hdf5 [--title T] [--description D]\n",
-                   argv[0], argv[0], argv[0]);
+                   "       %s --from-nscd IN.txt OUT.hdf5 [--title T] [--description D]\n"
+                   "       %s --to-nscd IN.hdf5 OUT.txt\n",
+                   argv[0], argv[0], argv[0], argv[0]);
       return 2;
     } else files.push_back(argv[i]);
   }
   if (!from_in.empty()) return fromNscd(from_in.c_str(), from_out.c_str(), title, descr);
+  if (!to_in.empty()) return toNscd(to_in.c_str(), to_out.c_str());
   if (!convert_in.empty()) {
 #ifdef NSCD_WITH_SICONOS
     return convert(convert_in.c_str(), convert_out.c_str(), title, descr);
