@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include "nscd_sim/friction_contact_solver.hpp"
+#include "nscd_sim/problem_file.hpp"
+#include "test_support.hpp"
 
 using Eigen::Matrix3d;
 using Eigen::MatrixXd;
@@ -896,4 +898,24 @@ TEST(ProximalNewton, JammedChainSticksAtBothJoints) {
   o.method = SolverMethod::NSGS;  // the sweeps alone end far from it
   VectorXd Pn = VectorXd::Zero(6);
   EXPECT_GT(s.solve(W, b, blocks, o, Pn).residual, 1e-4);
+}
+
+// A C-60 handle step (docs/fclib.md: the FCLib form, the probe's bilateral rows
+// condensed out; written by `nscd_fclib --to-nscd`), 20 contacts on a
+// hyperstatic set, solved cold with the FCLib harness's budget. Every stage
+// before the long last-resort Newton ends between 1e-7 and 1e-6 here; that
+// Newton, with the regularisation floor of 1e-10 of diag(W) the short
+// attempts use, cycles and ends at 1.06e-7.
+TEST(Newton, LastResortConvergesOnC60HandleStep) {
+  const ProblemFile p =
+      readProblemFile(nscd_test::sourceDir() + "/test/problems/c60_handle_dt1e-5_step638.txt");
+  ASSERT_EQ(p.W.rows(), 60);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-8;
+  o.max_iterations = 10000;
+  VectorXd P = VectorXd::Zero(p.b.size());
+  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
+  EXPECT_TRUE(r.converged) << r.residual;
+  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
 }

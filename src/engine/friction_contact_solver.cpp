@@ -31,7 +31,13 @@ constexpr int kSwitchSweeps = 1;         // Auto: looks at the NSGS rate after 1
 constexpr double kNewtonCostIterations = 6;  // Auto: expected Newton iterations...
 constexpr double kLuRowsPerSweep = 20;   // ...each costing (1 + m / this) sweeps
 constexpr int kNewtonAttempts = 4;       // Newton runs per solve, NSGS sweeps in between
-constexpr NewtonBudget kNewtonLastResort{500, 150};  // the long Newton after everything else
+// The long Newton after everything else. Its Jacobian regularisation floor is
+// 100x the short attempts' (1e-8 of diag(W)): over hundreds of steps on a
+// hyperstatic set, the bare Newton step's components along W's near-null
+// directions (impulse moved between redundant contacts) throw the iterate
+// across kinks and it cycles (C-60 handle step 638 of docs/fclib.md, cold: 1e-7
+// after 500 steps; with the floor 6.8e-9).
+constexpr NewtonBudget kNewtonLastResort{500, 150, 1e-8};
 
 int problemRows(const std::vector<ProblemBlock>& blocks) {
   int m = 0;

@@ -14,10 +14,9 @@
 namespace nscd {
 namespace {
 
-constexpr NewtonBudget kNewtonAttempt{60, 25};  // per attempt: iterations, and without halving the error
+constexpr NewtonBudget kNewtonAttempt{60, 25, 1e-10};  // per attempt: iterations, without halving the error, delta
 constexpr int kNonMonotone = 5;          // merit history of the line search
 constexpr int kLineSearchSteps = 30;
-constexpr double kNewtonDelta0 = 1e-10;  // Jacobian regularisation, relative to diag(W)
 constexpr double kNewtonDeltaMax = 1e-1;
 constexpr double kNewtonShortStep = 0.25;  // accepted step length below this: more delta
 constexpr double kNewtonMaxImpulse = 1e3;  // iterates bounded by this * impulse scale
@@ -51,7 +50,7 @@ bool runNewton(SolveRun& run, const NewtonBudget& budget) {
   double f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, ws.phi.data());
   double hist[kNonMonotone];
   for (double& h : hist) h = f;
-  double delta = kNewtonDelta0;
+  double delta = budget.delta0;
   // Iterates are kept within kNewtonMaxImpulse times the impulse scale of
   // the problem (what stops each row alone, or the start): on problems
   // without a solution (jamming, b outside range(W) in position projection)
@@ -95,7 +94,7 @@ bool runNewton(SolveRun& run, const NewtonBudget& budget) {
     // A short step means a poor model (kink, near-singular J): regularise
     // more (Levenberg-like); a full step lets delta relax back.
     delta = t < kNewtonShortStep ? std::min(kNewtonDeltaMax, 1e3 * delta)
-                                 : std::max(kNewtonDelta0, 1e-2 * delta);
+                                 : std::max(budget.delta0, 1e-2 * delta);
     P.head(m) = ws.Pt.head(m);
     run.refreshU();
     f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, ws.phi.data());

@@ -81,6 +81,7 @@ void resumeNsgs(SolveRun& run);
 struct NewtonBudget {
   int max_iterations;
   int stall;
+  double delta0;  // the Jacobian regularisation (relative to diag(W)) to start from and relax to
 };
 bool runNewton(SolveRun& run);
 bool runNewton(SolveRun& run, const NewtonBudget& budget);
