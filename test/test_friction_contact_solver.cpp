@@ -13,6 +13,7 @@
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/problem_file.hpp"
 #include "test_support.hpp"
+#include "cone_interior_point.hpp"
 
 using Eigen::Matrix3d;
 using Eigen::MatrixXd;
@@ -918,4 +919,79 @@ TEST(Newton, LastResortConvergesOnC60HandleStep) {
   const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
   EXPECT_TRUE(r.converged) << r.residual;
   EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
+}
+
+// min 1/2 |y - a|^2 over a cone is the projection of a onto it: the
+// second-order cone's in closed form, the half-line's max(0, a), a free row's a.
+TEST(ConeInteriorPoint, ProjectsOntoCones) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const std::vector<ConeBlock> blocks{{ConeBlock::SecondOrder, 0, 3}, {ConeBlock::SecondOrder, 3, 3},
+                                      {ConeBlock::HalfLine, 6, 1}, {ConeBlock::Free, 7, 2},
+                                      {ConeBlock::SecondOrder, 9, 3}};
+  const int n = 12;
+  ConeQpWorkspace ws;
+  for (int trial = 0; trial < 50; ++trial) {
+    VectorXd a(n);
+    for (int i = 0; i < n; ++i) a(i) = g(rng);
+    a(3) = 5;   // inside its cone
+    a(9) = -5;  // inside the polar cone: projects to 0
+    VectorXd want = a;
+    for (int r : {0, 3, 9}) {
+      const double t = a.segment<2>(r + 1).norm();
+      if (t <= a(r)) continue;
+      if (t <= -a(r)) {
+        want.segment<3>(r).setZero();
+        continue;
+      }
+      const double c = 0.5 * (a(r) + t);
+      want(r) = c;
+      want.segment<2>(r + 1) = c * a.segment<2>(r + 1) / t;
+    }
+    want(6) = std::max(0.0, a(6));
+    VectorXd y(n);
+    const ConeQpReport rep = solveConeQp(MatrixXd::Identity(n, n), -a, blocks, n, ws, y);
+    EXPECT_TRUE(rep.converged) << trial;
+    EXPECT_LE((y - want).norm(), 1e-8 * (1 + want.norm())) << trial << ": " << y.transpose();
+  }
+}
+
+// A singular Q (rank 2 on 6 rows, as W on a hyperstatic set): the minimum of
+// 1/2 |A y + c|^2 over two cones. The answer need not be unique; its value is:
+// here A y = -c is reachable inside the cones, so the minimum is 0.
+TEST(ConeInteriorPoint, SingularQReachesTheMinimum) {
+  MatrixXd A(2, 6);
+  A << 1, 0.3, -0.2, 1, -0.1, 0.4,
+       0.5, -1, 0.2, 0.7, 0.3, -0.6;
+  const VectorXd c = -A * (VectorXd(6) << 2, 0.5, -0.3, 1, 0.2, 0.1).finished();  // reachable
+  const MatrixXd Q = A.transpose() * A;
+  const VectorXd q = A.transpose() * c;
+  const std::vector<ConeBlock> blocks{{ConeBlock::SecondOrder, 0, 3}, {ConeBlock::SecondOrder, 3, 3}};
+  ConeQpWorkspace ws;
+  VectorXd y(6);
+  const ConeQpReport rep = solveConeQp(Q, q, blocks, 6, ws, y);
+  EXPECT_TRUE(rep.converged);
+  EXPECT_LE((A * y + c).norm(), 1e-6 * c.norm()) << y.transpose();
+  for (int r : {0, 3}) EXPECT_GE(y(r) - y.segment<2>(r + 1).norm(), -1e-10);
+}
+
+// A problem the stress suite left unsolved (case 381: two links, mass ratio
+// 1000, mu 0.7; W of rank 12 on 12 rows, condition number 9e7; strictly feasible,
+// so it has a solution): every Newton stage fails on it, even with a budget of
+// 2000; the cone fixed point's answer hands the Newton a start it converges from.
+TEST(ConeFixedPoint, SolvesAStressProblemTheNewtonStagesFail) {
+  const ProblemFile p =
+      readProblemFile(nscd_test::sourceDir() + "/test/problems/stress_case381_step465.txt");
+  ASSERT_EQ(p.W.rows(), 12);
+  ASSERT_FALSE(p.P_start.size() == 0);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-8;
+  VectorXd P = p.P_start;  // the run's warm start
+  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
+  EXPECT_TRUE(r.converged) << r.residual;
+  EXPECT_GT(r.interior_point_iterations, 0);
+  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
+  for (const ProblemBlock& bl : p.blocks)  // inside the cones
+    EXPECT_LE(P.segment<2>(bl.row + 1).norm(), bl.mu * P(bl.row) * (1 + 1e-12));
 }

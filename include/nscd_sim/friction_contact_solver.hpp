@@ -12,11 +12,14 @@
 // NSGS converges slowly (SolverMethod::Auto) and falls back to NSGS if it fails.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace nscd {
+
+struct ConeFixedPointWorkspace;  // cone_fixed_point.cpp
 
 enum class BlockKind { Bilateral, Frictionless, Frictional };
 
@@ -33,7 +36,9 @@ struct ProblemBlock {
 // discarded (NSGS resumes from where Newton started; the first failure restarts
 // the Newton from P = 0, then up to 3 more attempts between runs of sweeps), and
 // NSGS keeps its full sweep budget; if the problem is still unsolved, the
-// proximal Newton (proximal_newton.cpp) from the best iterate. ProximalNewton:
+// proximal Newton (proximal_newton.cpp) from the best iterate, a long Newton,
+// and the cone fixed point (cone_fixed_point.cpp) with a Newton from its
+// answer. ProximalNewton:
 // one sweep, then the proximal Newton at once (for solver studies).
 enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
 
@@ -44,11 +49,12 @@ struct SolverOptions {
 };
 
 struct SolverReport {
-  int iterations = 0;         // sweeps + newton_iterations
+  int iterations = 0;         // sweeps + newton_iterations + interior_point_iterations
   double residual = 0;        // solverError at exit
   bool converged = false;
   int sweeps = 0;             // NSGS sweeps
   int newton_iterations = 0;  // global Newton iterations (each: one m x m LU)
+  int interior_point_iterations = 0;  // of the cone fixed point (each: one m x m LU)
 };
 
 // Siconos-style error: sqrt(sum over blocks of |P - proj_K(P - Uhat)|^2
@@ -90,6 +96,8 @@ class FrictionContactSolver {
     // outer iterate.
     Eigen::MatrixXd Wprox;
     Eigen::VectorXd bprox, Pouter;
+    // The cone fixed point's buffers, made when it first runs.
+    std::shared_ptr<ConeFixedPointWorkspace> cone;
   };
 
  private:

@@ -1,8 +1,10 @@
 // The friction-contact solver's driver: checks the problem, sets up its
 // buffers (scaling, zero rows, the factored equality block), then runs NSGS
 // sweeps (nsgs.cpp) and, when they converge slowly, the global Newton
-// (global_newton.cpp); and the Siconos-style error. A problem of one frictional
-// contact goes to the local solver alone.
+// (global_newton.cpp), and for what they leave unsolved the proximal Newton
+// (proximal_newton.cpp) and the cone fixed point (cone_fixed_point.cpp); and the
+// Siconos-style error. A problem of one frictional contact goes to the local
+// solver alone.
 #include "nscd_sim/friction_contact_solver.hpp"
 
 #include <algorithm>
@@ -214,7 +216,8 @@ namespace {
 // restarts it from P = 0, then from the warm start), with up to kNewtonAttempts
 // attempts in all between runs of sweeps; the proximal Newton (its own budget)
 // when the last attempt fails, and again from the best iterate if all that fell
-// short; then one long Newton. False on a non-finite iterate.
+// short; then one long Newton; then the cone fixed point (cone_fixed_point.cpp)
+// and a long Newton from its answer. False on a non-finite iterate.
 bool runSchedule(SolveRun& run, bool newtonAllowed) {
   SolveRun::Workspace& ws = run.ws;
   const SolverOptions& options = run.options;
@@ -351,13 +354,15 @@ bool runSchedule(SolveRun& run, bool newtonAllowed) {
       setUpRun(run, run.maxDiag);
     }
   }
+  // Then the cone fixed point, where the Newton stages fail for conditioning.
+  if (ok && !rep.converged && newtonAllowed) runConeFixedPoint(run);
   return ok;
 }
 
 // The report; if not converged, the best iterate and its error on the exact U.
 void finishRun(SolveRun& run, bool ok) {
   SolverReport& rep = run.rep;
-  rep.iterations = rep.sweeps + rep.newton_iterations;
+  rep.iterations = rep.sweeps + rep.newton_iterations + rep.interior_point_iterations;
   if (!ok) {
     rep.residual = INFINITY;
     return;

@@ -44,7 +44,7 @@ bool runNewton(SolveRun& run, const NewtonBudget& budget) {
   auto J = ws.J.topLeftCorner(m, m);
   const int ld = int(ws.J.rows());
   const int maxIt = std::min(budget.max_iterations, options.max_iterations - rep.newton_iterations +
-                                                        run.proximalNewtonIterations);
+                                                        run.ownBudgetNewtonIterations);
   ws.Pstart.head(m) = P.head(m);
   run.refreshU();
   double f = acResidual(blocks, P.data(), U.data(), rho, zeroRow, ws.phi.data());

@@ -76,7 +76,7 @@ bool runProximalNewton(SolveRun& run) {
     setUpRun(in, maxDiag + shift);
     const bool ok = in.err <= inner.tolerance || runNewton(in);
     rep.newton_iterations += in.rep.newton_iterations;
-    run.proximalNewtonIterations += in.rep.newton_iterations;
+    run.ownBudgetNewtonIterations += in.rep.newton_iterations;
     used += std::max(1, in.rep.newton_iterations);
     run.refreshU();
     run.err = errorFromU(run.blocks, P.data(), run.U.data(), run.bnorm);

@@ -39,9 +39,11 @@ struct SolveRun {
   SolverReport rep;
   double err = 0;        // error of P
   double bestAll = 0;    // error of ws.Pbest, the best NSGS iterate
-  // Of rep.newton_iterations, those of the proximal loop (proximal_newton.cpp):
-  // they have a budget of their own.
-  int proximalNewtonIterations = 0;
+  // Of rep.newton_iterations, those not charged to the plain Newton's budget:
+  // the proximal loop's (proximal_newton.cpp) and those before the Newton from
+  // the cone fixed point's answer (cone_fixed_point.cpp), which have budgets of
+  // their own.
+  int ownBudgetNewtonIterations = 0;
   // Proximal NSGS (see nsgs.cpp): weight, and the error and sweep it last halved at.
   double sigma = 0;
   double stallErr = 0;
@@ -73,6 +75,13 @@ double errorFromU(const std::vector<ProblemBlock>& blocks, const double* P, cons
 bool runNsgs(SolveRun& run, int until);
 // NSGS starts again from P = ws.Pstart (after a failed Newton).
 void resumeNsgs(SolveRun& run);
+
+// cone_fixed_point.cpp: the fixed point on s = mu |U_T| of convex cone
+// problems (each solved by the interior-point method), then a long Newton from
+// its best answer; true if that converged. Runs on problems without zero rows
+// whose frictional blocks all have mu > 0, up to kConeMaxRows rows (false
+// otherwise, nothing changed). If it fails, P and the run are as they were.
+bool runConeFixedPoint(SolveRun& run);
 
 // global_newton.cpp: the global semismooth Newton from the current P; false if
 // it gives up (P is then left at its last iterate: see resumeNsgs). The budget:
