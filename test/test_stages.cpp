@@ -103,6 +103,151 @@ TEST(Stages, UndampedSpringStiffnessMatchesDifferences) {
   EXPECT_LT((K - Dsym).norm(), 1e-6 * K.norm()) << "K\n" << K << "\ndifferences\n" << Dsym;
 }
 
+namespace {
+
+// Two free bodies, `box` (floating from the world) and `arm`, joined by the revolute
+// joint `h` (axis along box z, its zero turned by rpy so that rel_rot_zero is not the
+// identity), with the given <nscd> content.
+Model hingeScene(const std::string& nscd) {
+  const std::string urdf = R"(<?xml version="1.0"?>
+<robot name="hinge">
+  <link name="world"/>
+  <link name="box">
+    <inertial><mass value="2"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
+  </link>
+  <link name="arm">
+    <inertial><mass value="0.5"/>
+      <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.003" iyz="0" izz="0.004"/></inertial>
+  </link>
+  <joint name="j" type="floating">
+    <parent link="world"/><child link="box"/><origin xyz="0 0 1"/>
+  </joint>
+  <joint name="h" type="revolute">
+    <parent link="box"/><child link="arm"/><origin xyz="0.1 0 0" rpy="0.2 -0.1 0.4"/>
+    <axis xyz="0 0 1"/><limit lower="-10" upper="10" effort="1" velocity="1"/>
+  </joint>
+  <nscd>)" + nscd + R"(</nscd>
+</robot>)";
+  return loadSceneFromString(urdf, "hinge.urdf");
+}
+
+// K and C of computeForces against the symmetric part of central differences of F
+// over the 12 position (x += eps, q <- q exp(phi)) and 12 velocity (v, w += eps)
+// coordinates of the two bodies, on a state where every term of the closed form
+// matters: both bodies turned (the hinge bent off its axis too, as a clearance joint
+// lets it), spinning, and the torque away from 0.
+int hingeIndex(const Model& m) {
+  for (size_t i = 0; i < m.joints.size(); ++i)
+    if (m.joints[i].name == "h") return static_cast<int>(i);
+  return -1;
+}
+
+void expectAxisTorqueDerivativesMatchDifferences(Stages& t) {
+  const int h = hingeIndex(t.m);
+  ASSERT_GE(h, 0);
+  t.s.bodies[0].q = expMap(Vec3(0.3, -0.5, 0.7));
+  t.s.bodies[1].q = expMap(Vec3(-0.2, 0.4, 1.9));
+  t.s.bodies[0].w = Vec3(1.5, -2.0, 3.0);
+  t.s.bodies[1].w = Vec3(-1.0, 2.5, -4.0);
+  t.s.joint_angle[h] = jointPosition(t.m, t.s, h);
+  computeForces(t.m, t.s, t.ws, t.out, true);
+  const Eigen::Matrix<double, 12, 12> K = t.ws.K.topLeftCorner<12, 12>();
+  const Eigen::Matrix<double, 12, 12> C = t.ws.C.topLeftCorner<12, 12>();
+  Eigen::Matrix<double, 12, 12> DK, DC;
+  const double eps = 1e-6;
+  for (int velocity = 0; velocity < 2; ++velocity) {
+    for (int col = 0; col < 12; ++col) {
+      const int body = col / 6, dof = col % 6;
+      Eigen::Matrix<double, 12, 1> f[2];
+      for (int side = 0; side < 2; ++side) {
+        State p = t.s;
+        BodyState& bs = p.bodies[body];
+        const double e = side ? -eps : eps;
+        if (velocity) {
+          if (dof < 3) bs.v[dof] += e; else bs.w[dof - 3] += e;
+        } else if (dof < 3) {
+          bs.x[dof] += e;
+        } else {
+          Vec3 phi = Vec3::Zero();
+          phi[dof - 3] = e;
+          bs.q = (bs.q * expMap(phi)).normalized();
+        }
+        computeForces(t.m, p, t.ws, t.out, false);
+        f[side] = t.ws.F.head<12>();
+      }
+      (velocity ? DC : DK).col(col) = (f[0] - f[1]) / (2 * eps);
+    }
+  }
+  const Eigen::Matrix<double, 12, 12> DKsym = 0.5 * (DK + DK.transpose());
+  const Eigen::Matrix<double, 12, 12> DCsym = 0.5 * (DC + DC.transpose());
+  EXPECT_GT(K.norm(), 1.0);  // not trivial
+  EXPECT_GT(C.norm(), 0.1);
+  EXPECT_LT((K - DKsym).norm(), 1e-6 * K.norm()) << "K\n" << K << "\ndifferences\n" << DKsym;
+  EXPECT_LT((C - DCsym).norm(), 1e-6 * C.norm()) << "C\n" << C << "\ndifferences\n" << DCsym;
+}
+
+}  // namespace
+
+// A damped torsion spring's K and C are computed in closed form (forces.cpp); they
+// must be the symmetric parts of dF/dq and dF/dv (central differences).
+TEST(Stages, TorsionSpringDerivativesMatchDifferences) {
+  Stages t(hingeScene(R"(<spring name="s" type="torsion" joint="h" stiffness="2" rest_angle="-1.3" damping="0.4"/>
+      <simulation gravity="0 0 0"/>)"));
+  expectAxisTorqueDerivativesMatchDifferences(t);
+  EXPECT_GT(std::abs(springForceAt(t.m, t.s, 0)), 0.5);  // the torque's own turn matters
+}
+
+// A PD actuator on a revolute joint, not saturated: K and C in closed form as well.
+TEST(Stages, PositionActuatorDerivativesMatchDifferences) {
+  Stages t(hingeScene(R"(<actuator name="m" type="position" joint="h" kp="3" kd="0.5" max_effort="100"/>
+      <simulation gravity="0 0 0"/>)"));
+  t.s.commands[0] = 2.1;
+  expectAxisTorqueDerivativesMatchDifferences(t);
+  EXPECT_GT(std::abs(t.out.actuator_effort[0]), 0.5);
+  EXPECT_LT(std::abs(t.out.actuator_effort[0]), 100.0);  // not saturated
+}
+
+// A saturated PD actuator: its torque is constant in magnitude, but it still turns
+// with the bodies (K nonzero, C zero).
+TEST(Stages, SaturatedActuatorDerivativesMatchDifferences) {
+  Stages t(hingeScene(R"(<actuator name="m" type="position" joint="h" kp="30" kd="0.5" max_effort="1.5"/>
+      <simulation gravity="0 0 0"/>)"));
+  t.s.commands[0] = 2.1;
+  t.s.bodies[0].q = expMap(Vec3(0.3, -0.5, 0.7));
+  t.s.bodies[1].q = expMap(Vec3(-0.2, 0.4, 1.9));
+  const int h = hingeIndex(t.m);
+  ASSERT_GE(h, 0);
+  t.s.joint_angle[h] = jointPosition(t.m, t.s, h);
+  computeForces(t.m, t.s, t.ws, t.out, true);
+  EXPECT_EQ(std::abs(t.out.actuator_effort[0]), 1.5);
+  const Eigen::Matrix<double, 12, 12> K = t.ws.K.topLeftCorner<12, 12>();
+  Eigen::Matrix<double, 12, 12> DK;
+  const double eps = 1e-6;
+  for (int col = 0; col < 12; ++col) {
+    const int body = col / 6, dof = col % 6;
+    Eigen::Matrix<double, 12, 1> f[2];
+    for (int side = 0; side < 2; ++side) {
+      State p = t.s;
+      const double e = side ? -eps : eps;
+      if (dof < 3) {
+        p.bodies[body].x[dof] += e;
+      } else {
+        Vec3 phi = Vec3::Zero();
+        phi[dof - 3] = e;
+        p.bodies[body].q = (p.bodies[body].q * expMap(phi)).normalized();
+      }
+      computeForces(t.m, p, t.ws, t.out, false);
+      f[side] = t.ws.F.head<12>();
+    }
+    DK.col(col) = (f[0] - f[1]) / (2 * eps);
+  }
+  const Eigen::Matrix<double, 12, 12> DKsym = 0.5 * (DK + DK.transpose());
+  EXPECT_GT(K.norm(), 0.5);
+  EXPECT_LT((K - DKsym).norm(), 1e-6 * K.norm()) << "K\n" << K << "\ndifferences\n" << DKsym;
+  EXPECT_EQ((t.ws.C.topLeftCorner<12, 12>().norm()), 0.0);
+}
+
 // A PD actuator on a revolute joint: effort kp (cmd - angle) - kd rate about the
 // axis, on the child, the opposite on the parent (ground here).
 TEST(Stages, ForcesOfAPositionActuator) {
