@@ -231,12 +231,22 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   inf = LocalSolveInfo{};
   double tolAbs = INFINITY;
   // Every exit reports the error of the original problem (W may be modified below).
-  const auto finish = [&](LocalStage stage, const Vector3d& p, bool ok) {
-    P = p;
-    inf.error = localCoulombError(p, Win * p + b, mu);
+  const auto report = [&](LocalStage stage, bool ok) {
     ok = ok && inf.error <= tolAbs;
     inf.stage = ok ? stage : LocalStage::Failed;
     return ok;
+  };
+  const auto finish = [&](LocalStage stage, const Vector3d& p, bool ok) {
+    P = p;
+    inf.error = localCoulombError(p, Win * p + b, mu);
+    return report(stage, ok);
+  };
+  // An exit whose error of the original problem is known already (the same
+  // expression on the same W, b, mu, p): only its report.
+  const auto finishKnown = [&](LocalStage stage, const Vector3d& p, double error, bool ok) {
+    P = p;
+    inf.error = error;
+    return report(stage, ok);
   };
   if (!Win.allFinite() || !allFinite3(b) || !std::isfinite(mu)) {
     P.setZero();
@@ -260,8 +270,10 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   // A zero tangent row (planar scenes) with b_T = 0 there: replace it by a
   // decoupled unit-scale row; the solution then has P = 0 on it, as it must.
   Matrix3d W = Win;
+  bool modified = false;  // W != Win
   for (int i = 1; i < 3; ++i) {
     if (W(i, i) <= kRelZeroRow * maxDiag && std::abs(b(i)) <= tolAbs) {
+      modified = true;
       W.row(i).setZero();
       W.col(i).setZero();
       W(i, i) = W(0, 0);
@@ -269,8 +281,9 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   }
 
   // Warm start already a solution (NSGS near convergence): nothing to do.
-  if (allFinite3(P) && !P.isZero(0) && errorOf(Win, b, mu, P) <= tolAbs) {
-    return finish(LocalStage::WarmStart, P, true);
+  if (allFinite3(P) && !P.isZero(0)) {
+    const double e = errorOf(Win, b, mu, P);
+    if (e <= tolAbs) return finishKnown(LocalStage::WarmStart, P, e, true);
   }
 
   // Second tangent row decoupled (planar scenes): a 2D contact, solved in
@@ -303,7 +316,8 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   const Vector3d Ps = ldlt.solve(-b);
   if (allFinite3(Ps)) {
     const double e = errorOf(W, b, mu, Ps);
-    if (e <= tolAbs && Ps(0) > 0) return finish(LocalStage::Stick, Ps, true);
+    if (e <= tolAbs && Ps(0) > 0)
+      return modified ? finish(LocalStage::Stick, Ps, true) : finishKnown(LocalStage::Stick, Ps, e, true);
     best.offer(Ps, e);
   }
 
