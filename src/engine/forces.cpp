@@ -1,8 +1,7 @@
 // Stage 1: forces. Gravity, springs, dampers and actuators, with the derivatives
 // the Moreau-Jean iteration matrix needs for the stiff elements (springs and PD
-// actuators), by finite differences per element (in closed form: undamped linear
-// springs, and torques about revolute axes: torsion springs, PD actuators).
-// (Gyroscopic torques: free_velocity.cpp.)
+// actuators), by finite differences per element (undamped linear springs: in closed
+// form). (Gyroscopic torques: free_velocity.cpp.)
 #include <algorithm>
 #include <cmath>
 
@@ -126,66 +125,6 @@ bool addLinearSpringStiffness(const Spring& sp, const BodyState& a, const BodySt
   return true;
 }
 
-// K and C of a torque about a revolute joint's axis (torsion spring, PD actuator),
-// tau = -kp (angle - ref) - kd rate on B (-tau on A), in closed form: the symmetric
-// part of what the central differences below estimate. The angle 2 atan2(s, c) of
-// dev = qa^-1 qb Z^-1 = (c, v), s = v . n, changes under qb <- qb exp(phi_b) by
-// gb . phi_b, gb = Z^-1 (c (c n + n x v) + s v) / (s^2 + c^2) (dev <- dev exp(Z phi_b)),
-// and under qa <- qa exp(phi_a) by -(c (c n + v x n) + s v) / (s^2 + c^2) . phi_a;
-// the rate (Rb wb - Ra wa) . Ra n by (wb x Rb^T A) . phi_b and
-// (n x Ra^T (Rb wb - Ra wa) - wa x n) . phi_a (A = Ra n), and by Rb^T A . dwb,
-// -Ra^T A . dwa. The torque Rb^T (tau A) on B also turns with A's axis
-// (-tau Rb^T Ra [n]x) and with B ([Rb^T tau A]x: antisymmetric, so left out, as the
-// symmetric part alone is kept); on A it is -tau n in A's frame. A saturated
-// actuator (|effort| at max_effort) has dtau = 0. Only the orientation and angular
-// velocity columns are nonzero.
-void addAxisTorqueDerivatives(const Joint& j, const BodyState& a, const BodyState& b,
-                              int body_a, int body_b, double tau, double kp, double kd,
-                              bool saturated, Eigen::MatrixXd& K, Eigen::MatrixXd& C) {
-  const Vec3& n = j.axis_a;
-  Quat dev = (a.q.conjugate() * b.q) * j.rel_rot_zero.conjugate();
-  const double c = dev.w();
-  const Vec3 v = dev.vec();
-  const double sn = v.dot(n);
-  const double den = sn * sn + c * c;
-  const Vec3 gb_dev = (c * (c * n + n.cross(v)) + sn * v) / den;
-  const Vec3 gb = j.rel_rot_zero.conjugate() * gb_dev;
-  const Vec3 ga = -(c * (c * n + v.cross(n)) + sn * v) / den;
-  const Mat3 Ra = a.q.toRotationMatrix(), Rb = b.q.toRotationMatrix();
-  const Vec3 A = Ra * n;
-  const Vec3 RbA = Rb.transpose() * A;  // the axis in B's frame
-  const Vec3 RaA = Ra.transpose() * A;  // the axis in A's frame (n up to round-off)
-  Vec3 dtau_b = Vec3::Zero(), dtau_a = Vec3::Zero(), dtau_wb = Vec3::Zero(), dtau_wa = Vec3::Zero();
-  if (!saturated) {
-    dtau_b = -kp * gb;
-    dtau_a = -kp * ga;
-    if (kd != 0) {
-      const Vec3 delta = Rb * b.w - Ra * a.w;
-      dtau_b -= kd * b.w.cross(RbA);
-      dtau_a -= kd * (n.cross(Ra.transpose() * delta) - a.w.cross(n));
-      dtau_wb = -kd * RbA;
-      dtau_wa = kd * RaA;
-    }
-  }
-  const int ra = 6 * body_a + 3, rb = 6 * body_b + 3;
-  if (body_b != kGround) {
-    K.block<3, 3>(rb, rb) += RbA * dtau_b.transpose();
-    if (kd != 0) C.block<3, 3>(rb, rb) += RbA * dtau_wb.transpose();
-    if (body_a != kGround) {
-      K.block<3, 3>(rb, ra) += RbA * dtau_a.transpose() - tau * (Rb.transpose() * Ra * skew(n));
-      if (kd != 0) C.block<3, 3>(rb, ra) += RbA * dtau_wa.transpose();
-    }
-  }
-  if (body_a != kGround) {
-    K.block<3, 3>(ra, ra) -= RaA * dtau_a.transpose();
-    if (kd != 0) C.block<3, 3>(ra, ra) -= RaA * dtau_wa.transpose();
-    if (body_b != kGround) {
-      K.block<3, 3>(ra, rb) -= RaA * dtau_b.transpose();
-      if (kd != 0) C.block<3, 3>(ra, rb) -= RaA * dtau_wb.transpose();
-    }
-  }
-}
-
 void perturb(BodyState& b, int dof, double eps, bool position) {
   if (!position) {
     if (dof < 3) b.v[dof] += eps; else b.w[dof - 3] += eps;
@@ -275,25 +214,6 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     if (el.is_spring && !damped && m.springs[el.index].type == SpringType::Linear &&
         addLinearSpringStiffness(m.springs[el.index], a0, b0, el.body_a, el.body_b, ws.K))
       return;
-    // A torque about a revolute axis (torsion spring, PD actuator): K and C in closed
-    // form as well (agree with the differences to ~1e-9 of |K|).
-    if (rotational) {
-      const Joint& j = m.joints[el.joint];
-      double kp, kd;
-      bool saturated = false;
-      if (el.is_spring) {
-        kp = m.springs[el.index].stiffness;
-        kd = m.springs[el.index].damping;
-      } else {
-        const Actuator& ac = m.actuators[el.index];
-        kp = ac.kp;
-        kd = ac.kd;
-        saturated = ac.max_effort > 0 && std::abs(report) >= ac.max_effort;
-      }
-      addAxisTorqueDerivatives(j, a0, b0, el.body_a, el.body_b, report, kp, kd, saturated, ws.K,
-                               ws.C);
-      return;
-    }
     const int bodies[2] = {el.body_a, el.body_b};
     for (int side = 0; side < 2; ++side) {
       const int bj = bodies[side];
