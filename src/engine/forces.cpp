@@ -3,6 +3,7 @@
 // actuators), by finite differences per element (undamped linear springs: in closed
 // form). (Gyroscopic torques: free_velocity.cpp.)
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "joint_rows.hpp"
@@ -125,12 +126,31 @@ bool addLinearSpringStiffness(const Spring& sp, const BodyState& a, const BodySt
   return true;
 }
 
+constexpr double kTurnStep = 1e-7;  // the differences' rotation step (rad)
+
+// expMap(phi) of the six turns phi = +-kTurnStep about the body axes, made once
+// with expMap itself: the same quaternions, without a sin and cos per perturbation.
+const Quat& axisTurn(int axis, bool negative) {
+  static const std::array<Quat, 6> turns = [] {
+    std::array<Quat, 6> t;
+    for (int k = 0; k < 6; ++k) {
+      Vec3 phi = Vec3::Zero();
+      phi[k % 3] = k < 3 ? kTurnStep : -kTurnStep;
+      t[k] = expMap(phi);
+    }
+    return t;
+  }();
+  return turns[axis + (negative ? 3 : 0)];
+}
+
 void perturb(BodyState& b, int dof, double eps, bool position) {
   if (!position) {
     if (dof < 3) b.v[dof] += eps; else b.w[dof - 3] += eps;
   } else {
     if (dof < 3) {
       b.x[dof] += eps;
+    } else if (eps == kTurnStep || eps == -kTurnStep) {
+      b.q = (b.q * axisTurn(dof - 3, eps < 0)).normalized();
     } else {
       Vec3 phi = Vec3::Zero();
       phi[dof - 3] = eps;
@@ -221,7 +241,7 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
       const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
       for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
         for (int dof = rotational ? 3 : 0; dof < 6; ++dof) {
-          const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
+          const double eps = pos ? (dof < 3 ? scale_x : kTurnStep) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
           BodyState ap = a0, bp = b0, am = a0, bm = b0;
           perturb(side == 0 ? ap : bp, dof, eps, pos);
           perturb(side == 0 ? am : bm, dof, -eps, pos);
