@@ -14,9 +14,19 @@
 
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace nscd {
+
+// The sticking stage's factor of the last matrix it factored, kept for the next call
+// on the same contact (NSGS sweeps solve each contact again with the same W): used
+// when that matrix is bit for bit the same, so the answer is the same as without it.
+struct LocalFactorCache {
+  bool valid = false;
+  Eigen::Matrix3d W;
+  Eigen::LDLT<Eigen::Matrix3d> ldlt;
+};
 
 enum class BlockKind { Bilateral, Frictionless, Frictional };
 
@@ -90,6 +100,8 @@ class FrictionContactSolver {
     // outer iterate.
     Eigen::MatrixXd Wprox;
     Eigen::VectorXd bprox, Pouter;
+    // NSGS: the local solver's sticking factor per row (a frictional block's first).
+    std::vector<LocalFactorCache> localFactor;
   };
 
  private:
@@ -113,6 +125,11 @@ struct LocalSolveInfo {
 // Same as above, also reporting the stage that succeeded (info may be null).
 bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
                           double tol, Eigen::Vector3d& P, LocalSolveInfo* info);
+
+// Same as above with a LocalFactorCache (may be null).
+bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
+                          double tol, Eigen::Vector3d& P, LocalSolveInfo* info,
+                          LocalFactorCache* cache);
 
 // Projection onto K = {x : |x_T| <= mu x_N} (row 0 normal, rows 1-2 tangential).
 Eigen::Vector3d projectFrictionCone(const Eigen::Vector3d& x, double mu);

@@ -127,6 +127,7 @@ void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllow
     ws.rho.resize(m);
     ws.piv.resize(m);
     ws.zeroRow.resize(m);
+    ws.localFactor.resize(m);
     ws.eqRows.reserve(m);
   }
   if (newtonAllowed && ws.J.rows() < m) {  // not for NSGS only; capped at the Newton size

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstring>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -226,6 +227,11 @@ bool solveLocalFrictional(const Matrix3d& Wloc, const Vector3d& bloc, double mu,
 
 bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, double tol,
                           Vector3d& P, LocalSolveInfo* info) {
+  return solveLocalFrictional(Win, b, mu, tol, P, info, nullptr);
+}
+
+bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, double tol,
+                          Vector3d& P, LocalSolveInfo* info, LocalFactorCache* cache) {
   LocalSolveInfo local;
   LocalSolveInfo& inf = info ? *info : local;
   inf = LocalSolveInfo{};
@@ -311,9 +317,20 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   }
 
   Best best;
-  // Sticking: U = 0.
-  const Eigen::LDLT<Matrix3d> ldlt(W);
-  const Vector3d Ps = ldlt.solve(-b);
+  // Sticking: U = 0. The factor of this very W (bit for bit) from the cache if it
+  // has it: the same factor as computing it again.
+  Vector3d Ps;
+  if (cache) {
+    if (!cache->valid || std::memcmp(cache->W.data(), W.data(), sizeof(Matrix3d)) != 0) {
+      cache->W = W;
+      cache->ldlt.compute(W);
+      cache->valid = true;
+    }
+    Ps = cache->ldlt.solve(-b);
+  } else {
+    const Eigen::LDLT<Matrix3d> ldlt(W);
+    Ps = ldlt.solve(-b);
+  }
   if (allFinite3(Ps)) {
     const double e = errorOf(W, b, mu, Ps);
     if (e <= tolAbs && Ps(0) > 0)
