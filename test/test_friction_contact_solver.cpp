@@ -461,6 +461,31 @@ TEST_P(Nsgs, NonFiniteReportsFailure) {
   EXPECT_TRUE(P.allFinite());
 }
 
+// A non-finite entry anywhere off the diagonal of W (NaN, +-inf) is reported before
+// any sweep, whatever its row and column (the finiteness check runs over whole
+// columns in steps of four rows, and the last rows alone: m = 5, 6, 7 cover every
+// remainder).
+TEST_P(Nsgs, NonFiniteOffDiagonalReportsFailure) {
+  for (int m : {5, 6, 7}) {
+    for (double bad : {double(NAN), double(INFINITY), -double(INFINITY)}) {
+      for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < m; ++j) {
+          if (i == j) continue;
+          MatrixXd W = 2 * MatrixXd::Identity(m, m);
+          W(i, j) = bad;
+          VectorXd b = -VectorXd::Ones(m), P = VectorXd::Zero(m);
+          std::vector<ProblemBlock> blocks;
+          for (int k = 0; k < m; ++k) blocks.push_back({BlockKind::Frictionless, k, 1, 0.0});
+          FrictionContactSolver s;
+          const SolverReport r = s.solve(W, b, blocks, opts(), P);
+          EXPECT_FALSE(r.converged) << m << " " << i << " " << j << " " << bad;
+          EXPECT_EQ(r.iterations, 0) << m << " " << i << " " << j << " " << bad;
+        }
+      }
+    }
+  }
+}
+
 // Coupled frictionless contacts = an LCP; compare with brute-force enumeration
 // of the 2^n active sets (unique solution for positive definite W).
 TEST_P(Nsgs, FrictionlessMatchesBruteForceLcp) {
