@@ -72,7 +72,10 @@ void appendContactRows(const Model& m, const State& s, const ContactCandidate& c
     blk.size = 3;
   }
   const Vec3& n = c.row_cp.normal;
-  if (m.settings.planar == PlanarMode::XY) {
+  if (normal_only) {
+    // The projection modes' normal rows: no tangents are read (their blocks are
+    // never reported: storeImpulses runs before the projection).
+  } else if (m.settings.planar == PlanarMode::XY) {
     blk.t2 = Vec3::UnitZ();
     blk.t1 = blk.t2.cross(n);
     const double l = blk.t1.norm();
