@@ -26,6 +26,14 @@ void addTorque(Vec6& g, const BodyState& b, const Vec3& tau_world) {
   g.tail<3>() += b.q.conjugate() * tau_world;
 }
 
+// jointRate(j, a, b), given axis = a.q * j.axis_a: a revolute joint's rate
+// (revoluteRate) from that axis instead of rotating it again; the same expressions
+// on the same values, so the same bits.
+double rateAbout(const Joint& j, const BodyState& a, const BodyState& b, const Vec3& axis) {
+  if (j.type == JointType::Prismatic) return jointRate(j, a, b);
+  return (b.q * b.w - a.q * a.w).dot(axis);
+}
+
 // A force element between two bodies: a spring or a position actuator.
 struct Element {
   bool is_spring;
@@ -61,9 +69,9 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
     } else {
       const Joint& j = m.joints[sp.joint];
       const double ang = jointCoordinateNear(j, a, b, angle_ref);
-      const double rate = jointRate(j, a, b);
-      const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       const Vec3 axis = a.q * j.axis_a;
+      const double rate = rateAbout(j, a, b, axis);
+      const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       addTorque(fb, b, tau * axis);
       addTorque(fa, a, -tau * axis);
       report = tau;
@@ -73,10 +81,10 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
   const Actuator& ac = m.actuators[el.index];
   const Joint& j = m.joints[ac.joint];
   const double pos = jointCoordinateNear(j, a, b, angle_ref);
-  const double vel = jointRate(j, a, b);
+  const Vec3 axis = a.q * j.axis_a;
+  const double vel = rateAbout(j, a, b, axis);
   double effort = ac.kp * (commands[el.index] - pos) - ac.kd * vel;
   if (ac.max_effort > 0) effort = std::max(-ac.max_effort, std::min(ac.max_effort, effort));
-  const Vec3 axis = a.q * j.axis_a;
   if (j.type == JointType::Prismatic) {
     const Vec3 pb = pointWorld(b, j.anchor_b);
     addForceAt(fb, b, effort * axis, pb);
