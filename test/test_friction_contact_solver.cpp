@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -45,6 +46,35 @@ bool inCone(const Vector3d& P, double mu, double slack) {
 }  // namespace
 
 // ---------------------------------------------------------------- cone helpers
+
+// The sticking stage solves W P = -b by its own 3 x 3 LDLT (local_contact_solver.cpp),
+// which repeats Eigen's LDLT<Matrix3d> operation for operation: its answer must be
+// Eigen's bit for bit, on SPD matrices whose diagonals come in every order (every
+// pivoting), with and without the factor cache.
+TEST(LocalSolver, StickIsEigensLdltBitForBit) {
+  std::mt19937 rng(21);
+  std::normal_distribution<double> g(0, 1);
+  int sticks = 0;
+  LocalFactorCache cache;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Matrix3d A;
+    for (int i = 0; i < 9; ++i) A(i) = g(rng);
+    Matrix3d W = A * A.transpose();
+    for (int i = 0; i < 3; ++i) W(i, i) += std::pow(10.0, g(rng));
+    const Vector3d Ptrue(1 + std::abs(g(rng)), 0.1 * g(rng), 0.1 * g(rng));
+    const Vector3d b = -W * Ptrue;
+    for (int cached = 0; cached < 2; ++cached) {
+      Vector3d P = Vector3d::Zero();
+      LocalSolveInfo info;
+      solveLocalFrictional(W, b, 10.0, 1e-12, P, &info, cached ? &cache : nullptr);
+      if (info.stage != LocalStage::Stick) continue;
+      ++sticks;
+      const Vector3d ref = Eigen::LDLT<Matrix3d>(W).solve(-b);
+      ASSERT_EQ(0, std::memcmp(P.data(), ref.data(), sizeof(Vector3d))) << trial << "\n" << W;
+    }
+  }
+  EXPECT_GT(sticks, 30000);
+}
 
 TEST(FrictionCone, ProjectionCases) {
   const double mu = 0.5;

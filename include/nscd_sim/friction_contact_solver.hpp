@@ -14,7 +14,6 @@
 
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace nscd {
@@ -25,7 +24,11 @@ namespace nscd {
 struct LocalFactorCache {
   bool valid = false;
   Eigen::Matrix3d W;
-  Eigen::LDLT<Eigen::Matrix3d> ldlt;
+  // Its LDLT factor in place and the pivots (local_contact_solver.cpp), unless
+  // factored is false (a zero first pivot: Eigen's LDLT is used instead).
+  bool factored = false;
+  Eigen::Matrix3d factor;
+  int perm[3] = {0, 1, 2};
 };
 
 enum class BlockKind { Bilateral, Frictionless, Frictional };
