@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -48,6 +49,35 @@ bool inCone(const Vector3d& P, double mu, double slack) {
 }  // namespace
 
 // ---------------------------------------------------------------- cone helpers
+
+// The sticking stage solves W P = -b by its own 3 x 3 LDLT (local_contact_solver.cpp),
+// which repeats Eigen's LDLT<Matrix3d> operation for operation: its answer must be
+// Eigen's bit for bit, on SPD matrices whose diagonals come in every order (every
+// pivoting), with and without the factor cache.
+TEST(LocalSolver, StickIsEigensLdltBitForBit) {
+  std::mt19937 rng(21);
+  std::normal_distribution<double> g(0, 1);
+  int sticks = 0;
+  LocalFactorCache cache;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Matrix3d A;
+    for (int i = 0; i < 9; ++i) A(i) = g(rng);
+    Matrix3d W = A * A.transpose();
+    for (int i = 0; i < 3; ++i) W(i, i) += std::pow(10.0, g(rng));
+    const Vector3d Ptrue(1 + std::abs(g(rng)), 0.1 * g(rng), 0.1 * g(rng));
+    const Vector3d b = -W * Ptrue;
+    for (int cached = 0; cached < 2; ++cached) {
+      Vector3d P = Vector3d::Zero();
+      LocalSolveInfo info;
+      solveLocalFrictional(W, b, 10.0, 1e-12, P, &info, cached ? &cache : nullptr);
+      if (info.stage != LocalStage::Stick) continue;
+      ++sticks;
+      const Vector3d ref = Eigen::LDLT<Matrix3d>(W).solve(-b);
+      ASSERT_EQ(0, std::memcmp(P.data(), ref.data(), sizeof(Vector3d))) << trial << "\n" << W;
+    }
+  }
+  EXPECT_GT(sticks, 30000);
+}
 
 TEST(FrictionCone, ProjectionCases) {
   const double mu = 0.5;
@@ -462,6 +492,31 @@ TEST_P(Nsgs, NonFiniteReportsFailure) {
   r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
   EXPECT_TRUE(P.allFinite());
+}
+
+// A non-finite entry anywhere off the diagonal of W (NaN, +-inf) is reported before
+// any sweep, whatever its row and column (the finiteness check runs over whole
+// columns in steps of four rows, and the last rows alone: m = 5, 6, 7 cover every
+// remainder).
+TEST_P(Nsgs, NonFiniteOffDiagonalReportsFailure) {
+  for (int m : {5, 6, 7}) {
+    for (double bad : {double(NAN), double(INFINITY), -double(INFINITY)}) {
+      for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < m; ++j) {
+          if (i == j) continue;
+          MatrixXd W = 2 * MatrixXd::Identity(m, m);
+          W(i, j) = bad;
+          VectorXd b = -VectorXd::Ones(m), P = VectorXd::Zero(m);
+          std::vector<ProblemBlock> blocks;
+          for (int k = 0; k < m; ++k) blocks.push_back({BlockKind::Frictionless, k, 1, 0.0});
+          FrictionContactSolver s;
+          const SolverReport r = s.solve(W, b, blocks, opts(), P);
+          EXPECT_FALSE(r.converged) << m << " " << i << " " << j << " " << bad;
+          EXPECT_EQ(r.iterations, 0) << m << " " << i << " " << j << " " << bad;
+        }
+      }
+    }
+  }
 }
 
 // Coupled frictionless contacts = an LCP; compare with brute-force enumeration

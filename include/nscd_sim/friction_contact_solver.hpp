@@ -21,6 +21,19 @@ namespace nscd {
 
 struct ConeFixedPointWorkspace;  // cone_fixed_point.cpp
 
+// The sticking stage's factor of the last matrix it factored, kept for the next call
+// on the same contact (NSGS sweeps solve each contact again with the same W): used
+// when that matrix is bit for bit the same, so the answer is the same as without it.
+struct LocalFactorCache {
+  bool valid = false;
+  Eigen::Matrix3d W;
+  // Its LDLT factor in place and the pivots (local_contact_solver.cpp), unless
+  // factored is false (a zero first pivot: Eigen's LDLT is used instead).
+  bool factored = false;
+  Eigen::Matrix3d factor;
+  int perm[3] = {0, 1, 2};
+};
+
 enum class BlockKind { Bilateral, Frictionless, Frictional };
 
 struct ProblemBlock {
@@ -98,6 +111,8 @@ class FrictionContactSolver {
     Eigen::VectorXd bprox, Pouter;
     // The cone fixed point's buffers, made when it first runs.
     std::shared_ptr<ConeFixedPointWorkspace> cone;
+    // NSGS: the local solver's sticking factor per row (a frictional block's first).
+    std::vector<LocalFactorCache> localFactor;
   };
 
  private:
@@ -121,6 +136,11 @@ struct LocalSolveInfo {
 // Same as above, also reporting the stage that succeeded (info may be null).
 bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
                           double tol, Eigen::Vector3d& P, LocalSolveInfo* info);
+
+// Same as above with a LocalFactorCache (may be null).
+bool solveLocalFrictional(const Eigen::Matrix3d& Wloc, const Eigen::Vector3d& bloc, double mu,
+                          double tol, Eigen::Vector3d& P, LocalSolveInfo* info,
+                          LocalFactorCache* cache);
 
 // Projection onto K = {x : |x_T| <= mu x_N} (row 0 normal, rows 1-2 tangential).
 Eigen::Vector3d projectFrictionCone(const Eigen::Vector3d& x, double mu);

@@ -31,10 +31,18 @@ Vec3 pointVelocity(const BodyState& b, const Vec3& p_world) {
   return b.v + (b.q * b.w).cross(p_world - b.x);
 }
 
-// Normal approach velocity of a contact point for the velocities in `st`.
-double normalVelocity(const State& st, int ia, int ib, const ContactPoint& cp) {
-  const Vec3 va = pointVelocity(bodyOrGround(st, ia), cp.point_a);
-  const Vec3 vb = pointVelocity(bodyOrGround(st, ib), cp.point_b);
+// Normal approach velocity of a contact point for the velocities in `st`, with
+// each body's q * w taken from omega (computed once per pass by the same expression
+// as pointVelocity's: the same bits); ground's by pointVelocity.
+double normalVelocity(const State& st, const std::vector<Vec3>& omega, int ia, int ib,
+                      const ContactPoint& cp) {
+  const auto velocity = [&](int i, const Vec3& p) {
+    if (i == kGround) return pointVelocity(bodyOrGround(st, i), p);
+    const BodyState& b = st.bodies[i];
+    return Vec3(b.v + omega[i].cross(p - b.x));
+  };
+  const Vec3 va = velocity(ia, cp.point_a);
+  const Vec3 vb = velocity(ib, cp.point_b);
   return cp.normal.dot(va - vb);
 }
 
@@ -72,7 +80,10 @@ void appendContactRows(const Model& m, const State& s, const ContactCandidate& c
     blk.size = 3;
   }
   const Vec3& n = c.row_cp.normal;
-  if (m.settings.planar == PlanarMode::XY) {
+  if (normal_only) {
+    // The projection modes' normal rows: no tangents are read (their blocks are
+    // never reported: storeImpulses runs before the projection).
+  } else if (m.settings.planar == PlanarMode::XY) {
     blk.t2 = Vec3::UnitZ();
     blk.t1 = blk.t2.cross(n);
     const double l = blk.t1.norm();
@@ -164,10 +175,11 @@ void activateContacts(const Model& m, const State& s, double h, CandidateMode mo
   }
   const double eps_act = activationTolerance(set, mode);
   ws.deferred.clear();
+  for (size_t i = 0; i < s.bodies.size(); ++i) ws.omega_world[i] = s.bodies[i].q * s.bodies[i].w;
   for (const ContactCandidate& c : ws.candidates) {
     // Activation: the gap predicted from v_k, or from the free motion, closes.
     const ContactPoint& cp = c.cp;
-    const double un = normalVelocity(s, c.body_a, c.body_b, cp);
+    const double un = normalVelocity(s, ws.omega_world, c.body_a, c.body_b, cp);
     const bool active = cp.gap + set.activation_gamma * h * un <= eps_act ||
                         cp.gap + h * normalVelocityOf(ws.vfree, s, c.body_a, c.body_b, cp) <= 0;
     if (active) {

@@ -8,6 +8,10 @@
 // (none, for rows on bodies Ŵ does not couple).
 #include <cstdint>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -18,6 +22,19 @@ namespace {
 inline double dot6(const double* a, const double* b) {
   return (a[0] * b[0] + (a[1] * b[1] + a[2] * b[2])) + (a[3] * b[3] + (a[4] * b[4] + a[5] * b[5]));
 }
+
+#if defined(__SSE2__)
+// dot6 of two rows at once, one per lane (a01[k] = {row 0, row 1} at k): the same
+// products and sums in the same order in each lane, so each lane is dot6's bits.
+inline __m128d dot6x2(const __m128d* a01, const double* b) {
+  const __m128d p12 = _mm_add_pd(_mm_mul_pd(a01[1], _mm_set1_pd(b[1])),
+                                 _mm_mul_pd(a01[2], _mm_set1_pd(b[2])));
+  const __m128d p45 = _mm_add_pd(_mm_mul_pd(a01[4], _mm_set1_pd(b[4])),
+                                 _mm_mul_pd(a01[5], _mm_set1_pd(b[5])));
+  return _mm_add_pd(_mm_add_pd(_mm_mul_pd(a01[0], _mm_set1_pd(b[0])), p12),
+                    _mm_add_pd(_mm_mul_pd(a01[3], _mm_set1_pd(b[3])), p45));
+}
+#endif
 
 }  // namespace
 
@@ -75,9 +92,29 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
     }
     int j0 = 0;
     if (size == 3) {  // frictional contacts, most rows: fixed-size loops below the block
+#if defined(__SSE2__)
+      // Rows 0 and 1 of the block in the two lanes of one vector (bit for bit the
+      // scalar sums: lanes do not mix), row 2 alone.
+      __m128d g01[2][6];
+      for (int q = 0; q < np; ++q)
+        for (int k = 0; k < 6; ++k) g01[q][k] = _mm_set_pd(g[1][q][k], g[0][q][k]);
+#endif
       for (; j0 < i0; ++j0) {
         const std::uint64_t support = ws.row_support[j0];
         const double* yj = Y + j0 * ldy;
+#if defined(__SSE2__)
+        __m128d w01 = _mm_setzero_pd();
+        double w2 = 0;
+        for (int q = 0; q < np; ++q) {
+          if (!(support & bit[q])) continue;
+          const double* y = yj + off[q];
+          w01 = _mm_add_pd(w01, dot6x2(g01[q], y));
+          w2 += dot6(g[2][q], y);
+        }
+        double w01s[2];
+        _mm_storeu_pd(w01s, w01);
+        const double w0 = w01s[0], w1 = w01s[1];
+#else
         double w0 = 0, w1 = 0, w2 = 0;
         for (int q = 0; q < np; ++q) {
           if (!(support & bit[q])) continue;
@@ -86,6 +123,7 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
           w1 += dot6(g[1][q], y);
           w2 += dot6(g[2][q], y);
         }
+#endif
         double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
         wc[i0] = w0;
         wc[i0 + 1] = w1;

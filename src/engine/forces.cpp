@@ -3,6 +3,7 @@
 // actuators), by finite differences per element (undamped linear springs: in closed
 // form). (Gyroscopic torques: free_velocity.cpp.)
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "joint_rows.hpp"
@@ -23,6 +24,14 @@ void addForceAt(Vec6& g, const BodyState& b, const Vec3& f, const Vec3& p) {
 }
 void addTorque(Vec6& g, const BodyState& b, const Vec3& tau_world) {
   g.tail<3>() += b.q.conjugate() * tau_world;
+}
+
+// jointRate(j, a, b), given axis = a.q * j.axis_a: a revolute joint's rate
+// (revoluteRate) from that axis instead of rotating it again; the same expressions
+// on the same values, so the same bits.
+double rateAbout(const Joint& j, const BodyState& a, const BodyState& b, const Vec3& axis) {
+  if (j.type == JointType::Prismatic) return jointRate(j, a, b);
+  return (b.q * b.w - a.q * a.w).dot(axis);
 }
 
 // A force element between two bodies: a spring or a position actuator.
@@ -60,9 +69,9 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
     } else {
       const Joint& j = m.joints[sp.joint];
       const double ang = jointCoordinateNear(j, a, b, angle_ref);
-      const double rate = jointRate(j, a, b);
-      const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       const Vec3 axis = a.q * j.axis_a;
+      const double rate = rateAbout(j, a, b, axis);
+      const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
       addTorque(fb, b, tau * axis);
       addTorque(fa, a, -tau * axis);
       report = tau;
@@ -72,10 +81,10 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
   const Actuator& ac = m.actuators[el.index];
   const Joint& j = m.joints[ac.joint];
   const double pos = jointCoordinateNear(j, a, b, angle_ref);
-  const double vel = jointRate(j, a, b);
+  const Vec3 axis = a.q * j.axis_a;
+  const double vel = rateAbout(j, a, b, axis);
   double effort = ac.kp * (commands[el.index] - pos) - ac.kd * vel;
   if (ac.max_effort > 0) effort = std::max(-ac.max_effort, std::min(ac.max_effort, effort));
-  const Vec3 axis = a.q * j.axis_a;
   if (j.type == JointType::Prismatic) {
     const Vec3 pb = pointWorld(b, j.anchor_b);
     addForceAt(fb, b, effort * axis, pb);
@@ -125,12 +134,31 @@ bool addLinearSpringStiffness(const Spring& sp, const BodyState& a, const BodySt
   return true;
 }
 
+constexpr double kTurnStep = 1e-7;  // the differences' rotation step (rad)
+
+// expMap(phi) of the six turns phi = +-kTurnStep about the body axes, made once
+// with expMap itself: the same quaternions, without a sin and cos per perturbation.
+const Quat& axisTurn(int axis, bool negative) {
+  static const std::array<Quat, 6> turns = [] {
+    std::array<Quat, 6> t;
+    for (int k = 0; k < 6; ++k) {
+      Vec3 phi = Vec3::Zero();
+      phi[k % 3] = k < 3 ? kTurnStep : -kTurnStep;
+      t[k] = expMap(phi);
+    }
+    return t;
+  }();
+  return turns[axis + (negative ? 3 : 0)];
+}
+
 void perturb(BodyState& b, int dof, double eps, bool position) {
   if (!position) {
     if (dof < 3) b.v[dof] += eps; else b.w[dof - 3] += eps;
   } else {
     if (dof < 3) {
       b.x[dof] += eps;
+    } else if (eps == kTurnStep || eps == -kTurnStep) {
+      b.q = (b.q * axisTurn(dof - 3, eps < 0)).normalized();
     } else {
       Vec3 phi = Vec3::Zero();
       phi[dof - 3] = eps;
@@ -221,7 +249,7 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
       const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
       for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
         for (int dof = rotational ? 3 : 0; dof < 6; ++dof) {
-          const double eps = pos ? (dof < 3 ? scale_x : 1e-7) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
+          const double eps = pos ? (dof < 3 ? scale_x : kTurnStep) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
           BodyState ap = a0, bp = b0, am = a0, bm = b0;
           perturb(side == 0 ? ap : bp, dof, eps, pos);
           perturb(side == 0 ? am : bm, dof, -eps, pos);

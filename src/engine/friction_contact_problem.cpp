@@ -4,6 +4,7 @@
 // Newton impact law shifts every active contact's normal by e U_N,k; impulses
 // start from the last step's (warm start, carried by the State).
 #include <algorithm>
+#include <utility>
 
 #include "step_stages.hpp"
 
@@ -13,7 +14,29 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
                                  StepStats& st) {
   const int r = ws.rows;
   const auto G = ws.G.topRows(r);
-  ws.b.head(r).noalias() = G * ws.vfree;
+  if ((ws.vfree.array() * 0.0).sum() == 0) {  // every entry finite (friction_contact_solver.cpp)
+    // b = G v_free over each row's nonzero columns only (its block's bodies, in column
+    // order): the sum Eigen's gemv forms, less its exact +-0 terms (G is zero outside
+    // those columns, clearConstraintRows), which change no partial sum that is not
+    // zero; a zero sum comes out +0 both ways (c * 1 + 0, as gemv adds it to the
+    // zeroed b). A non-finite v_free (0 * inf) takes the dense product.
+    for (const ConstraintBlock& blk : ws.blocks) {
+      int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
+      if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
+        std::swap(bodies[0], bodies[1]);
+      for (int k = 0; k < blk.size; ++k) {
+        const int i = blk.row + k;
+        double c = 0;
+        for (int body : bodies) {
+          if (body == kGround) continue;
+          for (int j = 6 * body; j < 6 * body + 6; ++j) c += ws.G(i, j) * ws.vfree[j];
+        }
+        ws.b[i] = c * 1.0 + 0.0;
+      }
+    }
+  } else {
+    ws.b.head(r).noalias() = G * ws.vfree;
+  }
   ws.problem.clear();
   st.active_contacts = 0;
   const double theta = m.settings.theta;

@@ -73,7 +73,7 @@ bool runNsgs(SolveRun& run, int until) {
             bl3 -= eps * Pold;
           }
           Vector3d Pnew = Pold;
-          solveLocalFrictional(Wl, bl3, bl.mu, localTol, Pnew);
+          solveLocalFrictional(Wl, bl3, bl.mu, localTol, Pnew, nullptr, &run.ws.localFactor[r]);
           const Vector3d dP = Pnew - Pold;
           if (!dP.isZero(0)) {
             U.noalias() += Wm.middleCols<3>(r) * dP;

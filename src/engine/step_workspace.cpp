@@ -111,6 +111,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.saved_bodies.resize(m.bodies.size());
   ws.saved_dq.setZero(ws.n);
   ws.predicted.bodies.resize(m.bodies.size());
+  ws.omega_world.assign(m.bodies.size(), Vec3::Zero());
   ws.G = Eigen::MatrixXd::Zero(mr, n);
   ws.Y = Eigen::MatrixXd::Zero(n, mr);
   ws.W = Eigen::MatrixXd::Zero(mr, mr);

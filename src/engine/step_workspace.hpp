@@ -110,6 +110,7 @@ class StepWorkspace {
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
   State predicted;  // q_k advanced by ahead * v_k: where the contact rows are evaluated
+  std::vector<Vec3> omega_world;  // activation: each body's q * w (world angular velocity)
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates
 
   // Contact candidates of the current geometry pass, and those of the step left
