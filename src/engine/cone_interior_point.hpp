@@ -35,7 +35,9 @@ struct ConeQpReport {
   bool converged = false;  // residual and gap within the tolerances below
 };
 
-// Solves the problem of the top-left n x n of Q and the head of q; y: out (n).
+// Solves the problem of the top-left n x n of Q and the head of q, with Q's
+// diagonal raised by 1e-8 of its largest entry (a Tikhonov term: the answer is
+// unique and bounded even where the optimal set is not; see the .cpp); y: out (n).
 // Tolerances are relative to the problem scaled to a unit largest diagonal of Q
 // and a unit largest |q_i|: dual residual 1e-11 (1 + |q|), gap 1e-13 (1 + |q^T y|).
 // A non-finite iterate or a failed factorisation ends it at the last good iterate.
