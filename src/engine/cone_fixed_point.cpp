@@ -32,8 +32,9 @@ struct ConeFixedPointWorkspace {
 namespace {
 
 constexpr int kConeMaxRows = 150;   // a dense LU per interior-point iteration
-// Fixed-point steps before the Newton. Stress suite (unconverged steps): 10
-// steps 972, 20 922, 40 703, at 1.28x the CPU of 10 (docs/performance.md).
+// Fixed-point steps before the Newton. Stress suite (unconverged steps, before
+// the interior point's Tikhonov term): 10 steps 972, 20 922, 40 703, at 1.28x
+// the CPU of 10; with the term, 40 steps: 1 310 (docs/performance.md).
 constexpr int kFixedPointSteps = 40;
 constexpr NewtonBudget kNewtonFromCone{500, 150, 1e-8};  // as the long last-resort Newton
 
