@@ -151,19 +151,15 @@ const Quat& axisTurn(int axis, bool negative) {
   return turns[axis + (negative ? 3 : 0)];
 }
 
+// One perturbation of the differences: velocities and positions by eps; an
+// orientation always by the turn of kTurnStep about the body axis, eps giving its sign.
 void perturb(BodyState& b, int dof, double eps, bool position) {
   if (!position) {
     if (dof < 3) b.v[dof] += eps; else b.w[dof - 3] += eps;
+  } else if (dof < 3) {
+    b.x[dof] += eps;
   } else {
-    if (dof < 3) {
-      b.x[dof] += eps;
-    } else if (eps == kTurnStep || eps == -kTurnStep) {
-      b.q = (b.q * axisTurn(dof - 3, eps < 0)).normalized();
-    } else {
-      Vec3 phi = Vec3::Zero();
-      phi[dof - 3] = eps;
-      b.q = (b.q * expMap(phi)).normalized();
-    }
+    b.q = (b.q * axisTurn(dof - 3, eps < 0)).normalized();
   }
 }
 

@@ -10,10 +10,6 @@
 #include <algorithm>
 #include <cmath>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "dense_kernels.hpp"
 #include "solve_run.hpp"
 
@@ -116,30 +112,10 @@ bool finiteProblem(const Eigen::Ref<const Eigen::MatrixXd>& W,
     if (!std::isfinite(W(i, i)) || !std::isfinite(b(i))) return false;
     maxDiag = std::max(maxDiag, W(i, i));
   }
-  // W.allFinite(), in one vectorised pass instead of an entry-by-entry test: x * 0 is
+  // W.allFinite() in one vectorised pass instead of an entry-by-entry test: x * 0 is
   // +-0 for a finite x and NaN otherwise, and a sum of +-0 is +-0 (== 0) while a NaN
   // stays NaN, in any order: the same answer for every W.
-#if defined(__SSE2__)
-  // Four rows of a column per round in two vectors (Eigen's sum() peels each strided
-  // column and runs a longer loop).
-  const __m128d zero = _mm_setzero_pd();
-  __m128d s0 = zero, s1 = zero;
-  double tail = 0;
-  for (int j = 0; j < m; ++j) {
-    const double* c = W.data() + j * W.outerStride();
-    int i = 0;
-    for (; i + 4 <= m; i += 4) {
-      s0 = _mm_add_pd(s0, _mm_mul_pd(_mm_loadu_pd(c + i), zero));
-      s1 = _mm_add_pd(s1, _mm_mul_pd(_mm_loadu_pd(c + i + 2), zero));
-    }
-    for (; i < m; ++i) tail += c[i] * 0.0;
-  }
-  double sums[2];
-  _mm_storeu_pd(sums, _mm_add_pd(s0, s1));
-  return sums[0] + sums[1] + tail == 0;
-#else
   return (W.topLeftCorner(m, m).array() * 0.0).sum() == 0;
-#endif
 }
 
 // The buffers grow to the largest problem seen, never shrink.
