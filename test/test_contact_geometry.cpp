@@ -1076,6 +1076,77 @@ static void ringCylinderAgainstBruteForce(bool hollow, unsigned seed) {
   for (int k : kinds) EXPECT_EQ(k, 200);
 }
 
+// The margin is a filter (what the narrowphase cache relies on): the points of a
+// ring-cylinder pair at margin m are those at a wide margin with gap < m, for rings
+// near their cylinder (coaxial to oblique, centred to eccentric, inside the patch
+// to beyond its ends), at margins around each pair's lowest gap, so that the
+// early-outs (the bound before the sampling, the one after it) are taken and
+// missed. Fails if a bound is not one (it would drop points).
+static void ringCylinderMarginIsAFilter(bool hollow, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  ContactPoint wide[kMaxPointsPerPair], out[kMaxPointsPerPair];
+  int none = 0, some = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const double R = uni(rng, 1e-3, 6e-3), L = uni(rng, 1e-3, 1e-2);
+    // Kinds: 0 around the axis (coaxial to eccentric; solid: the ring encircles
+    // the cylinder), 1 beside it (solid) or far off-centre (hollow), 2 at an end
+    // of the patch, tilted.
+    const int kind = it % 3;
+    const double r = kind == 1 ? uni(rng, 0.2, hollow ? 0.5 : 1.0) * R
+                               : (hollow ? uni(rng, 0.5, 0.99) : uni(rng, 1.01, 1.5)) * R;
+    const Shape s = randomRing(rng, r);
+    const Pose pb = at(Vec3(uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02), uni(rng, -0.02, 0.02)), randQuat(rng));
+    const Vec3 u = pb.rotate(Vec3::UnitZ());
+    const double tilt = kind == 2 ? uni(rng, 0, 1) : std::pow(10.0, uni(rng, -6, -0.5)) * (it % 7 == 0 ? 0 : 1);
+    const Quat q = pb.q * rotAbout(anyOrthogonal(Vec3::UnitZ()), tilt) * rotAbout(Vec3::UnitZ(), uni(rng, -kPi, kPi));
+    const Vec3 off = rotAbout(u, uni(rng, -kPi, kPi)) * anyOrthogonal(u);
+    double from_axis = uni(rng, 0, 0.5) * std::abs(R - r), along = uni(rng, -0.7, 0.7) * L;
+    if (kind == 1) from_axis = hollow ? R - r * uni(rng, 0.9, 1.3) : R + r * uni(rng, 0.9, 1.3);
+    if (kind == 2) along = (it % 2 ? 1 : -1) * (0.5 * L + uni(rng, -1, 1) * r * std::sin(tilt));
+    const Vec3 c = pb.p + from_axis * off + along * u;
+    const Shape b = hollow ? hollowArc(R, L) : cylinder(R, L);
+    const int nw = run(s, at(c, q), b, pb, 1.0, wide);
+    double lowest = 0.1 * R;
+    for (int i = 0; i < nw; ++i) lowest = std::min(lowest, wide[i].gap);
+    for (double d : {-3e-2, -1e-7, 1e-7, 3e-3, 3e-2}) {
+      const double m = std::max(1e-12, lowest + d * R);
+      const int n = run(s, at(c, q), b, pb, m, out);
+      int k = 0;
+      for (int i = 0; i < nw; ++i) {
+        if (!(wide[i].gap < m)) continue;
+        ASSERT_LT(k, n) << "it " << it << " margin " << m << ": a point was dropped";
+        EXPECT_EQ(out[k].feature, wide[i].feature);
+        EXPECT_EQ(out[k].gap, wide[i].gap);
+        ++k;
+      }
+      EXPECT_EQ(n, k) << "it " << it << " margin " << m;
+      (n == 0 ? none : some) += 1;
+    }
+  }
+  EXPECT_GT(none, 1000);  // both outcomes are exercised
+  EXPECT_GT(some, 1000);
+}
+
+// A ring around a cylinder, tilted by 0.1 rad, its centre past the cylinder's end
+// by half its axial extent r sin(tilt): the ring comes nearest the axis (r cos tilt
+// from it) at its two points furthest along the axis, and the inner one lies on the
+// patch. It is the pair's one point, wherever the ring's own angle starts. (Fails
+// if the axial early-out counts the ring's extent short.)
+TEST(ContactGeometry, RingAroundCylinderEndKeepsItsInnerPoint) {
+  const double R = 2e-3, r = 2.1e-3, L = 4e-3, tilt = 0.1;
+  ContactPoint out[kMaxPointsPerPair];
+  for (double spin : {0.0, 1.0, 2.5}) {
+    const Quat q = rotAbout(Vec3::UnitX(), tilt) * rotAbout(Vec3::UnitZ(), spin);
+    const Vec3 c(0, 0, 0.5 * L + 0.5 * r * std::sin(tilt));
+    ASSERT_EQ(run(ring(r), at(c, q), cylinder(R, L), Pose{}, 1e-4, out), 1) << "spin " << spin;
+    EXPECT_NEAR(out[0].gap, r * std::cos(tilt) - R, 1e-12);
+    EXPECT_NEAR(out[0].point_a.z(), 0.5 * L - 0.5 * r * std::sin(tilt), 1e-12);
+  }
+}
+
+TEST(ContactGeometry, RingCylinderMarginIsAFilter) { ringCylinderMarginIsAFilter(false, 107); }
+TEST(ContactGeometry, RingInHollowCylinderMarginIsAFilter) { ringCylinderMarginIsAFilter(true, 109); }
+
 TEST(ContactGeometry, RingCylinderAgainstBruteForce) { ringCylinderAgainstBruteForce(false, 103); }
 TEST(ContactGeometry, RingInHollowCylinderAgainstBruteForce) { ringCylinderAgainstBruteForce(true, 105); }
 

@@ -189,6 +189,24 @@ int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb,
   const double sign = b.hollow ? -1.0 : 1.0;
   const RingAcrossAxis g{perp(pa.p - o), r * perp(e1), r * perp(e2), sign};
 
+  {
+    // A pair that far apart emits nothing, certainly: skip the sampling. Seen
+    // across the axis, the whole ring lies within sigma of w0 (sigma: the larger
+    // singular value of [w1 w2], so exact for a ring coaxial with the cylinder),
+    // and along the axis within r |(u.e1, u.e2)| of the centre's coordinate.
+    // The slack is the early-out's below, far above the round-off.
+    const double q1 = g.w1.squaredNorm(), q2 = g.w2.squaredNorm(), q12 = g.w1.dot(g.w2);
+    const double sigma =
+        std::sqrt(0.5 * (q1 + q2) + std::sqrt(0.25 * (q1 - q2) * (q1 - q2) + q12 * q12));
+    const double across = g.w0.norm();
+    const double lower = sign > 0 ? across - sigma - R : R - across - sigma;
+    const double slack = 1e-12 + 1e-9 * (R + r);
+    if (lower - margin > slack) return 0;
+    const double ue1 = u.dot(e1), ue2 = u.dot(e2);
+    const double along = std::abs(u.dot(pa.p - o)) - r * std::sqrt(ue1 * ue1 + ue2 * ue2);
+    if (along - 0.5 * b.length > slack + 1e-9 * b.length) return 0;
+  }
+
   const bool full = fullCircle(a.span);
   const double span = full ? kTwoPi : a.span;
   const int cells =
