@@ -138,6 +138,25 @@ struct BumpTable {
 };
 const BumpTable kBumpDirs;
 
+// Facet directions of clearanceRingFacets, +-15, +-30, +-60 deg from the ring
+// point's (+-15 deg since 2026-11-22 afternoon: with only +-30 and +-60, a journal
+// cocked in its bearing, the two ring ends touching opposite sides, saw its contact
+// directions swing by ~15 deg between passes and the passes stall: stress case
+// 455). Their cos and sin made once, as BumpTable's (laundered through a volatile).
+struct FacetTable {
+  double c[kRingFacets], s[kRingFacets];
+  FacetTable() {
+    const double angles[kRingFacets] = {kPi / 12, -kPi / 12, kPi / 6, -kPi / 6, kPi / 3, -kPi / 3};
+    for (int f = 0; f < kRingFacets; ++f) {
+      volatile double th = angles[f];
+      const double t = th;
+      c[f] = std::cos(t);
+      s[f] = std::sin(t);
+    }
+  }
+};
+const FacetTable kFacetDirs;
+
 double angleDistance(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
 
 // Global minimiser of f; the hint (if finite) starts Newton and breaks ties.
@@ -339,13 +358,10 @@ int clearanceRingFacets(const ClearanceJoint& cj, const Pose& bearing,
   if (n0.squaredNorm() < 1e-24) return 0;
   n0.normalize();
   const Vec3 m0 = nb.cross(n0);
-  // +-15 deg since 2026-11-22 afternoon: with only +-30 and +-60, a journal cocked
-  // in its bearing (the two ring ends touching opposite sides) saw its contact
-  // directions swing by ~15 deg between passes and the passes stall (stress case 455).
-  static const double kAngles[kRingFacets] = {kPi / 12, -kPi / 12, kPi / 6, -kPi / 6, kPi / 3, -kPi / 3};
+  // Directions +-15, +-30, +-60 deg from the ring point's (kFacetDirs).
   int n = 0;
-  for (double ang : kAngles) {
-    const Vec3 dir = std::cos(ang) * n0 + std::sin(ang) * m0;
+  for (int f = 0; f < kRingFacets; ++f) {
+    const Vec3 dir = kFacetDirs.c[f] * n0 + kFacetDirs.s[f] * m0;
     ContactPoint cp;
     cp.point_a = c + R * dir;
     cp.point_b = foot + cj.radius * dir;
