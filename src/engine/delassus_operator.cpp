@@ -99,8 +99,17 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
       for (int q = 0; q < np; ++q)
         for (int k = 0; k < 6; ++k) g01[q][k] = _mm_set_pd(g[1][q][k], g[0][q][k]);
 #endif
+      const std::uint64_t touched = np == 2 ? bit[0] | bit[1] : np == 1 ? bit[0] : 0;
       for (; j0 < i0; ++j0) {
         const std::uint64_t support = ws.row_support[j0];
+        double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
+        if (!(support & touched)) {
+          // Column j0 of Y is zero on this block's bodies (most pairs of rows):
+          // the sums below would be +0 (they start at +0 and add nothing).
+          wc[i0] = wc[i0 + 1] = wc[i0 + 2] = 0.0;
+          ws.W(j0, i0) = ws.W(j0, i0 + 1) = ws.W(j0, i0 + 2) = 0.0;
+          continue;
+        }
         const double* yj = Y + j0 * ldy;
 #if defined(__SSE2__)
         __m128d w01 = _mm_setzero_pd();
@@ -124,7 +133,6 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
           w2 += dot6(g[2][q], y);
         }
 #endif
-        double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
         wc[i0] = w0;
         wc[i0 + 1] = w1;
         wc[i0 + 2] = w2;
