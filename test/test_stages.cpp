@@ -201,6 +201,42 @@ TEST(Stages, TimeIntegrationOfTheThetaScheme) {
   EXPECT_NEAR(s.bodies[0].q.norm(), 1.0, 1e-15);
 }
 
+// The iteration matrix Ŵ is the inverse of A = M - h theta C - h^2 theta^2 K: with a
+// PD actuator on a revolute joint (its torque reads the orientation and spin only:
+// the translation DOFs are M's alone, inverted on their own) and with a damped
+// linear spring (every DOF coupled).
+TEST(Stages, IterationMatrixIsTheInverse) {
+  const char* scenes[] = {
+      R"(<actuator name="m" type="position" joint="j" kp="40" kd="5"/>)",
+      R"(<spring name="s" type="linear" stiffness="3000" rest_length="0.5" damping="20">
+           <end link="box" xyz="0.1 0.05 0"/><end link="world" xyz="0.3 -0.4 1.2"/></spring>)"};
+  for (int k = 0; k < 2; ++k) {
+    Stages t(boxScene(scenes[k], k == 0 ? "revolute" : "floating"));
+    t.s.commands.assign(t.s.commands.size(), 0.3);
+    t.s.bodies[0].q = Quat(Eigen::AngleAxisd(0.1, Vec3(0.2, 0.1, 1).normalized()));
+    t.s.bodies[0].w = Vec3(0.1, -0.2, 0.3);
+    const double h = 1e-2;
+    computeForces(t.m, t.s, t.ws, t.out, true);
+    stateVelocities(t.s, t.ws.vk);
+    StepStats st;
+    buildIterationMatrix(t.m, h, t.ws, st);
+    ASSERT_FALSE(st.iteration_matrix_fallback);
+    const double theta = t.m.settings.theta;
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    A.topLeftCorner<3, 3>() = 2 * Mat3::Identity();
+    A.bottomRightCorner<3, 3>() = Vec3(0.01, 0.02, 0.03).asDiagonal();
+    A -= h * theta * t.ws.C.topLeftCorner<6, 6>() + h * h * theta * theta * t.ws.K.topLeftCorner<6, 6>();
+    const Eigen::Matrix<double, 6, 6> W = t.ws.iteration_inverse.topLeftCorner<6, 6>();
+    EXPECT_LT((A * W - Eigen::Matrix<double, 6, 6>::Identity()).norm(), 1e-12) << "scene " << k << "\n" << A * W;
+    if (k == 0) {  // translation: 1 / m, alone
+      EXPECT_NEAR(W(0, 0), 0.5, 1e-15);
+      EXPECT_EQ(W.row(0).tail<5>().norm(), 0.0);
+    } else {
+      EXPECT_NE(W(0, 1), 0.0);  // the spring couples x and y
+    }
+  }
+}
+
 // Free velocity of a body with no force but gravity: v_k + h g; a body spinning
 // about a principal axis gets no gyroscopic impulse.
 TEST(Stages, FreeVelocityUnderGravity) {

@@ -28,13 +28,12 @@ bool reducedInverse(const Eigen::MatrixXd& A, StepWorkspace& ws, Eigen::MatrixXd
 
 namespace {
 
-// The inverse of a small SPD matrix from its Cholesky factor, A = L Lᵀ, A⁻¹ =
-// L⁻ᵀ L⁻¹: plain loops, where Eigen's dynamic-size LLT and triangular solves
-// spent most of their time setting up on 6 x 6 and 12 x 12 blocks. A is
-// overwritten by L (lower triangle); Li gets L⁻¹. False (A not positive
-// definite, as Eigen's LLT would say) leaves inv unset.
-bool spdInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, Eigen::MatrixXd& inv) {
-  const int n = static_cast<int>(A.rows());
+// The inverse of a small SPD matrix (its leading n x n block) from its Cholesky
+// factor, A = L Lᵀ, A⁻¹ = L⁻ᵀ L⁻¹: plain loops, where Eigen's dynamic-size LLT and
+// triangular solves spent most of their time setting up on 6 x 6 and 12 x 12
+// blocks. A gets L (lower triangle), then A⁻¹; Li gets L⁻¹. False (A not positive
+// definite, as Eigen's LLT would say) leaves A partly factored.
+bool spdInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, int n) {
   for (int j = 0; j < n; ++j) {
     double d = A(j, j);
     for (int k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
@@ -59,9 +58,42 @@ bool spdInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, Eigen::MatrixXd& inv) {
     for (int i = j; i < n; ++i) {
       double sum = 0;
       for (int k = i; k < n; ++k) sum += Li(k, i) * Li(k, j);
-      inv(i, j) = sum;
-      inv(j, i) = sum;
+      A(i, j) = sum;
+      A(j, i) = sum;
     }
+  return true;
+}
+
+// inv = A⁻¹ for a stiff group's block A (overwritten). A DOF whose row and column
+// of A are zero off the diagonal (a body's translation, which a torsion spring or a
+// PD actuator on a revolute joint leaves to M) is its own 1 x 1 block; spdInverse
+// runs on the others only, gathered in order into A's leading block. The answer
+// is the full factorisation's: the terms the gathering drops are exact zeros
+// (x - 0 * y = x), and the lone DOF's entry is the same (1 / sqrt(a))^2.
+// dofs: scratch of A's size.
+bool groupInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, std::vector<int>& dofs,
+                  Eigen::MatrixXd& inv) {
+  const int n = static_cast<int>(A.rows());
+  inv.setZero();
+  int nc = 0;
+  for (int i = 0; i < n; ++i) {
+    bool coupled = false;
+    for (int j = 0; j < n && !coupled; ++j) coupled = j != i && (A(i, j) != 0 || A(j, i) != 0);
+    if (coupled) {
+      dofs[nc++] = i;
+      continue;
+    }
+    if (!(A(i, i) > 0)) return false;
+    const double li = 1.0 / std::sqrt(A(i, i));
+    inv(i, i) = li * li;
+  }
+  // In place: entry (a, b) comes from (dofs[a], dofs[b]), never before it in
+  // column-major order, and no later source is written first (dofs ascends).
+  for (int b = 0; b < nc; ++b)
+    for (int a = 0; a < nc; ++a) A(a, b) = A(dofs[a], dofs[b]);
+  if (!spdInverse(A, Li, nc)) return false;
+  for (int b = 0; b < nc; ++b)
+    for (int a = 0; a < nc; ++a) inv(dofs[a], dofs[b]) = A(a, b);
   return true;
 }
 
@@ -112,7 +144,7 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
             }
         }
       Eigen::MatrixXd& inv = ws.group_inverse[g];
-      if (!spdInverse(Ag, ws.group_factor_inverse[g], inv)) {
+      if (!groupInverse(Ag, ws.group_factor_inverse[g], ws.group_dofs, inv)) {
         ok = false;
         break;
       }

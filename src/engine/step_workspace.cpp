@@ -163,6 +163,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
     ws.group_A.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_inverse.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_factor_inverse.push_back(Eigen::MatrixXd::Zero(k, k));
+    if (static_cast<int>(ws.group_dofs.size()) < k) ws.group_dofs.resize(k);
   }
 }
 

@@ -104,6 +104,7 @@ class StepWorkspace {
   // Per stiff group (facts.stiff_groups): its block of A (then its Cholesky factor),
   // the factor's inverse, the block's inverse.
   std::vector<Eigen::MatrixXd> group_A, group_factor_inverse, group_inverse;
+  std::vector<int> group_dofs;  // scratch: a group's coupled DOFs (iteration_matrix.cpp)
   Eigen::VectorXd rhs, vk, vfree, vnew;
   Eigen::VectorXd gyro_impulse;  // free velocity: backward-Euler gyroscopic impulses
   Eigen::VectorXd dq;            // projection: the displacement of a pass
