@@ -185,8 +185,10 @@ void activateContacts(const Model& m, const State& s, double h, CandidateMode mo
     if (active) {
       appendContactRows(m, s, c, false, ws);
     } else if (ws.deferred.size() < ws.deferred.capacity()) {
-      // Kept: the impulses of the other contacts may still close it.
+      // Kept: the impulses of the other contacts may still close it (then its
+      // gap is the slack it has in the problem).
       ws.deferred.push_back(c);
+      ws.deferred.back().late_slack = std::max(0.0, cp.gap);
     }
   }
 }

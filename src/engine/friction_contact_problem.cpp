@@ -1,7 +1,8 @@
 // Stage 4a: the friction-contact problem of the step's rows. Local free
 // velocities b = G v_free; bilateral rows aim at their rheonomic targets, ideal
 // joints at a workless theta-average velocity (Settings::joint_work); the
-// Newton impact law shifts every active contact's normal by e U_N,k; impulses
+// Newton impact law shifts every active contact's normal by e U_N,k, a late
+// contact's also by its gap over h; impulses
 // start from the last step's (warm start, carried by the State).
 #include <algorithm>
 #include <utility>
@@ -72,6 +73,11 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
     // them has none: the other's U_N+ >= 0 contradicts the first's U_N+ >= e |U_N-|.
     const double un_k = G.row(blk.row).dot(ws.vk);
     ws.b[blk.row] += blk.contact.e * un_k;
+    // A late contact (not active at q_k, joined because the answer closes it) may
+    // also close its gap g in the step: U_N+ >= -e U_N- - g/h. Held to U_N+ >=
+    // -e U_N- like a contact that touches, it stopped its body g short, and a link
+    // kicked across a tight bearing had no answer (stress cases 366, 721, 66).
+    ws.b[blk.row] += blk.contact.late_slack / m.settings.dt;
     if (warm) {
       const int slot = blk.contact.slot;
       const bool valid = slot >= 0 && s.warm_valid[slot] != 0;

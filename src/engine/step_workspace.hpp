@@ -34,6 +34,10 @@ struct ContactCandidate {
   int source = -1;       // contact pair or clearance joint index
   bool clearance = false;
   int slot = -1;         // warm-start slot (-1: projection facets, no warm start)
+  // A contact the activation deferred (activateContacts), if a solve's answer then
+  // closes it (activateLateContacts): its gap at q_k (> 0), which it may close in
+  // the step (friction_contact_problem.cpp). 0 for the others.
+  double late_slack = 0;
 };
 
 // One block of constraint rows: a contact point, or the bilateral rows of one
