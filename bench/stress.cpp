@@ -220,6 +220,8 @@ int main(int argc, char** argv) {
   long failed = 0, pen_bad = 0, gain_bad = 0, unconv_runs = 0, unconv_steps = 0, total_steps = 0;
   long frictionless = 0, capped = 0;  // steps that took a fallback (counted unconverged too)
   double fb_gain = 0, fb_loss = 0;      // their largest relative kinetic-energy change
+  long retries = 0;                     // steps taken plastic after Newton's law was unsolved
+  double rt_gain = 0, rt_loss = 0;      // and their largest relative kinetic-energy change
   double pen_max = 0, viol_max = 0, gain_max = -1e300, unconv_res = 0;
   long worst_pen = -1, worst_gain = -1, first_failed = -1;
   for (const Row& r : rows) {
@@ -237,6 +239,9 @@ int main(int argc, char** argv) {
     unconv_runs += r.m.unconverged_steps > 0;
     unconv_steps += r.m.unconverged_steps;
     unconv_res = std::max(unconv_res, r.m.unconverged_residual_max);
+    retries += r.m.plastic_retries;
+    rt_gain = std::max(rt_gain, r.m.retry_gain_max);
+    rt_loss = std::max(rt_loss, r.m.retry_loss_max);
     frictionless += r.m.frictionless_fallbacks;
     capped += r.m.energy_capped_steps;
     fb_gain = std::max(fb_gain, r.m.fallback_gain_max);
@@ -248,10 +253,11 @@ int main(int argc, char** argv) {
       "\"pen_rel_over_1pct\":%ld,\"violation_rel_max\":%.4g,\"energy_gain_rel_max\":%.4g,"
       "\"worst_gain_case\":%ld,\"energy_gain_over_tol\":%ld,\"energy_tol_rel\":%.1g,"
       "\"unconverged_runs\":%ld,\"unconverged_steps\":%ld,\"unconverged_residual_max\":%.4g,"
+      "\"plastic_retry_steps\":%ld,\"retry_kinetic_gain_max\":%.3g,\"retry_kinetic_loss_max\":%.3g,"
       "\"frictionless_fallback_steps\":%ld,\"fallback_kinetic_gain_max\":%.3g,"
       "\"fallback_kinetic_loss_max\":%.3g,\"energy_capped_steps\":%ld}\n",
       runs, seed, steps, total_steps, wall, failed, first_failed, pen_max, worst_pen, pen_bad,
       viol_max, gain_max, worst_gain, gain_bad, kEnergyGainRel, unconv_runs, unconv_steps, unconv_res,
-      frictionless, fb_gain, fb_loss, capped);
+      retries, rt_gain, rt_loss, frictionless, fb_gain, fb_loss, capped);
   return failed == 0 && pen_bad == 0 && gain_bad == 0 ? 0 : 1;
 }

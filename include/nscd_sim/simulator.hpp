@@ -69,6 +69,12 @@ struct StepStats {
   double max_penetration = 0;  // largest (positive) penetration at the end of the step
   bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
+  // Newton's impact law at coupled points left the problem unsolved and the plastic
+  // law (e = 0, friction kept) solved it: the step is taken plastic. Its effect: the
+  // kinetic energy after it minus that of the unsolved answer, relative to the
+  // kinetic energy of v_free.
+  bool plastic_retry = false;
+  double plastic_retry_kinetic_change = 0;
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
   // Its effect on the step: the kinetic energy after the fallback minus that of the
   // unsolved answer it replaced, relative to the kinetic energy of v_free (0 if none).

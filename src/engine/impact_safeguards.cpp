@@ -3,6 +3,11 @@
 //   energy (it is only proven dissipative for one point), and with theta = 1/2
 //   the impulses can do positive work over the step: the impact is then taken
 //   plastic (e = 0).
+// - A problem with restitution left unsolved: Newton's law at coupled points may
+//   have no solution (a link bounced off one contact into another within the
+//   step, which no velocity can meet) where the plastic law has one. The problem
+//   is solved again with e = 0, friction kept; if that converges it is the step's
+//   answer (a plastic retry), else the unsolved answer stays.
 // - A problem left unsolved whose answer adds kinetic energy through the contacts,
 //   or far from solved (residual > 1e-3; it may have no solution: Coulomb friction
 //   at coupled points), can pump energy into the mechanism or drive bodies through
@@ -57,11 +62,14 @@ bool impulsesGainEnergy(const Model& m, const StepWorkspace& ws, double rel_tol,
   return (std::isfinite(phi) && phi > tol) || (with_work && std::isfinite(work) && work > tol);
 }
 
-bool impactGainsEnergy(const Model& m, const StepWorkspace& ws) {
-  bool any_restitution = false;
+bool anyRestitution(const StepWorkspace& ws) {
   for (const ConstraintBlock& blk : ws.blocks)
-    any_restitution = any_restitution || (blk.kind != BlockKind::Bilateral && blk.contact.e > 0);
-  return any_restitution && impulsesGainEnergy(m, ws, 1e-12, true);
+    if (blk.kind != BlockKind::Bilateral && blk.contact.e > 0) return true;
+  return false;
+}
+
+bool impactGainsEnergy(const Model& m, const StepWorkspace& ws) {
+  return anyRestitution(ws) && impulsesGainEnergy(m, ws, 1e-12, true);
 }
 
 }  // namespace
@@ -77,6 +85,26 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
     rep = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
     applyImpulses(ws);
     plastic = st.plastic_fallback = true;
+  }
+  if (!rep.converged && !plastic && st.active_contacts > 0 && anyRestitution(ws)) {
+    ws.retry_P.head(r) = ws.P.head(r);
+    ws.retry_b.head(r) = b;
+    const double k_unsolved = kineticEnergyOf(m, ws.vnew);
+    removeRestitution(ws);
+    const SolverReport rep_p = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    if (rep_p.converged) {
+      rep.iterations += rep_p.iterations;
+      rep.residual = rep_p.residual;
+      rep.converged = true;
+      applyImpulses(ws);
+      plastic = st.plastic_retry = true;
+      st.plastic_retry_kinetic_change =
+          (kineticEnergyOf(m, ws.vnew) - k_unsolved) / (kineticEnergyOf(m, ws.vfree) + 1e-300);
+    } else {
+      rep.iterations += rep_p.iterations;
+      ws.P.head(r) = ws.retry_P.head(r);
+      ws.b.head(r) = ws.retry_b.head(r);
+    }
   }
   if (!rep.converged && st.active_contacts > 0 &&
       (!(rep.residual <= kFrictionlessFallbackResidual) || impulsesGainEnergy(m, ws, kUnsolvedEnergyGain, false))) {

@@ -110,6 +110,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
   ws.saved_dq.setZero(ws.n);
+  ws.retry_P.setZero(mr);
+  ws.retry_b.setZero(mr);
   ws.predicted.bodies.resize(m.bodies.size());
   ws.omega_world.assign(m.bodies.size(), Vec3::Zero());
   ws.G = Eigen::MatrixXd::Zero(mr, n);

@@ -114,6 +114,7 @@ class StepWorkspace {
   Eigen::VectorXd dq;            // projection: the displacement of a pass
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
+  Eigen::VectorXd retry_P, retry_b;     // impact safeguards: the answer a plastic retry may replace
   State predicted;  // q_k advanced by ahead * v_k: where the contact rows are evaluated
   std::vector<Vec3> omega_world;  // activation: each body's q * w (world angular velocity)
   std::vector<double> rates, zero_rates;  // prescribed actuators: commanded rates

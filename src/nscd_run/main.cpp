@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
   const double energy_initial = sim->energy().total();
   ProgressBar progress(!quiet && isatty(2), steps * h);
   long iters_sum = 0;
-  int iters_max = 0, unconverged = 0, frictionless_fallbacks = 0, energy_capped = 0;
+  int iters_max = 0, unconverged = 0, plastic_retries = 0, frictionless_fallbacks = 0, energy_capped = 0;
   double residual_max = 0, max_pen = 0;
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] {
@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
     if (std::isfinite(s.residual)) residual_max = std::max(residual_max, s.residual);
     max_pen = std::max(max_pen, s.max_penetration);
     if (st == nscd::StepStatus::NotConverged) ++unconverged;
+    plastic_retries += s.plastic_retry;
     frictionless_fallbacks += s.frictionless_fallback;
     energy_capped += s.energy_capped;
     if (st == nscd::StepStatus::NonFinite) {
@@ -200,6 +201,7 @@ int main(int argc, char** argv) {
   summary.iters_max = iters_max;
   summary.residual_max = residual_max;
   summary.unconverged_steps = unconverged;
+  summary.plastic_retries = plastic_retries;
   summary.frictionless_fallbacks = frictionless_fallbacks;
   summary.energy_capped_steps = energy_capped;
   summary.max_penetration = max_pen;

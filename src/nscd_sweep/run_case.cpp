@@ -44,6 +44,11 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       iters_sum += s.iterations;
       r.iters_max = std::max(r.iters_max, s.iterations);
       if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
+      r.plastic_retries += s.plastic_retry;
+      if (s.plastic_retry && std::isfinite(s.plastic_retry_kinetic_change)) {
+        r.retry_gain_max = std::max(r.retry_gain_max, s.plastic_retry_kinetic_change);
+        r.retry_loss_max = std::max(r.retry_loss_max, -s.plastic_retry_kinetic_change);
+      }
       r.frictionless_fallbacks += s.frictionless_fallback;
       if (s.frictionless_fallback && std::isfinite(s.fallback_kinetic_change)) {
         r.fallback_gain_max = std::max(r.fallback_gain_max, s.fallback_kinetic_change);
@@ -86,6 +91,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       js.iters_max = r.iters_max;
       js.residual_max = r.residual_max;
       js.unconverged_steps = r.unconverged_steps;
+      js.plastic_retries = r.plastic_retries;
       js.frictionless_fallbacks = r.frictionless_fallbacks;
       js.energy_capped_steps = r.energy_capped_steps;
       js.max_penetration = r.max_penetration;

@@ -46,11 +46,14 @@ struct CaseMetrics {
   double energy_step_gain_max = 0;  // max over steps of E(k+1) - E(k), J
   double kinetic_peak = 0;     // max over steps of the kinetic energy, J
   // Kept for the JSON summary (CaseOptions::summary_json), not in the CSV row.
+  long plastic_retries = 0;
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;
   // The fallbacks' effect: the largest kinetic-energy gain and loss one caused against
-  // the unsolved answer it replaced, relative to K(v_free) (StepStats).
+  // the unsolved answer it replaced, relative to K(v_free) (StepStats); the same for
+  // the plastic retries.
   double fallback_gain_max = 0, fallback_loss_max = 0;
+  double retry_gain_max = 0, retry_loss_max = 0;
 };
 
 // Runs a copy of `model` for opts.duration; never throws (errors go to status).

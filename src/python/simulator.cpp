@@ -337,6 +337,7 @@ class PySimulator {
     d["max_penetration"] = s.max_penetration;
     d["plastic_fallback"] = s.plastic_fallback;
     d["late_contacts"] = s.late_contacts;
+    d["plastic_retry"] = s.plastic_retry;
     d["frictionless_fallback"] = s.frictionless_fallback;
     d["energy_capped"] = s.energy_capped;
     d["projection_energy_removed"] = s.projection_energy_removed;

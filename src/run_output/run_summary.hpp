@@ -14,6 +14,7 @@ struct RunSummary {
   int iters_max = 0;
   double residual_max = 0;
   long unconverged_steps = 0;
+  long plastic_retries = 0;
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;
   double max_penetration = 0;
