@@ -84,6 +84,9 @@ def stress_section(out, docs):
     s.append("| runs with unconverged solver steps | %d (%d steps, %.2f%% of all; worst residual %.3g) |\n"
              % (summ["unconverged_runs"], summ["unconverged_steps"],
                 100.0 * summ["unconverged_steps"] / max(1, summ["total_steps"]), summ["unconverged_residual_max"]))
+    if "plastic_retry_steps" in summ:
+        s.append("| plastic retries (restitution unsolved, solved with e = 0) / frictionless fallbacks | %d / %d |\n"
+                 % (summ["plastic_retry_steps"], summ["frictionless_fallback_steps"]))
     rerun = [l for l in txt.splitlines() if l.startswith("rerun")]
     s.append("| rerun on 1 thread, CSV compared byte for byte | %s |\n\n" % (rerun[0].split(": ", 1)[1] if rerun else "not run"))
     s.append("By kind and time step (runs over the thresholds):\n\n")
