@@ -92,8 +92,8 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
     const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     removeRestitution(ws);
     const SolverReport rep_p = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    rep.iterations += rep_p.iterations;
     if (rep_p.converged) {
-      rep.iterations += rep_p.iterations;
       rep.residual = rep_p.residual;
       rep.converged = true;
       applyImpulses(ws);
@@ -101,7 +101,6 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
       st.plastic_retry_kinetic_change =
           (kineticEnergyOf(m, ws.vnew) - k_unsolved) / (kineticEnergyOf(m, ws.vfree) + 1e-300);
     } else {
-      rep.iterations += rep_p.iterations;
       ws.P.head(r) = ws.retry_P.head(r);
       ws.b.head(r) = ws.retry_b.head(r);
     }
