@@ -776,7 +776,12 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_EQ(s.joint_work, JointWork::Moreau);
   set("joint_work", "none");
   EXPECT_EQ(s.joint_work, JointWork::None);
-  EXPECT_EQ(settingKeys().size(), 13u);
+  EXPECT_EQ(s.max_step_halvings, 4);
+  set("max_step_halvings", "0");
+  EXPECT_EQ(s.max_step_halvings, 0);
+  set("max_step_halvings", "20");
+  EXPECT_EQ(s.max_step_halvings, 20);
+  EXPECT_EQ(settingKeys().size(), 14u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {
@@ -784,7 +789,8 @@ TEST(Settings, ApplySettingRefusesBadValues) {
       {"dt", "0"},        {"dt", "-1e-4"},        {"dt", "0.2"},           {"dt", "nan"},
       {"dt", "abc"},      {"dt", ""},             {"theta", "0.49"},       {"theta", "1.01"},
       {"tolerance", "-1e-8"}, {"tolerance", "0"}, {"tolerance", "1"},      {"max_iterations", "0"},
-      {"max_iterations", "2.5"}, {"max_iterations", "20000000"}, {"projection", "maybe"},
+      {"max_iterations", "2.5"}, {"max_iterations", "20000000"},
+      {"max_step_halvings", "-1"}, {"max_step_halvings", "21"}, {"max_step_halvings", "1.5"}, {"projection", "maybe"},
       {"projection_tolerance", "0"}, {"projection_max_iterations", "-1"},
       {"activation_gamma", "1.5"}, {"contact_prediction", "-0.1"}, {"contact_prediction", "1.5"},
       {"contact_prediction", "nan"}, {"gravity", "0 0"}, {"gravity", "0 0 inf"}, {"planar", "xz"}, {"joint_work", "some"},

@@ -86,6 +86,14 @@ struct StepStats {
   // The iteration matrix M - h theta C - h^2 theta^2 K was not positive definite:
   // the step used M^-1 (springs and PD actuators explicit).
   bool iteration_matrix_fallback = false;
+  // The step's problem stayed unsolved, so it was taken again in halves
+  // (Settings::max_step_halvings): the number of steps it was taken in (1: whole)
+  // and the deepest halving (h / 2^halvings). The other fields then sum (counts,
+  // iterations, the discarded attempts' included) or take the worst (residual,
+  // converged, flags) over the substeps kept; penetration, contacts and rows are
+  // those of the last.
+  int substeps = 1;
+  int halvings = 0;
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };
@@ -109,6 +117,10 @@ struct ProblemView {
   Eigen::Ref<const Eigen::VectorXd> P_start;
   Eigen::Ref<const Eigen::VectorXd> P;
   const SolverReport& report;
+  // A substep (Settings::max_step_halvings): of length h / 2^halvings, the
+  // substep-th of the step at that length (0 and 0: the step taken whole).
+  int halvings = 0;
+  int substep = 0;
 };
 using ProblemObserver = std::function<void(const ProblemView&)>;
 
@@ -188,6 +200,15 @@ class Simulator {
   // writes the step's workspace, so it cannot change the trajectory.
   std::unique_ptr<StepWorkspace> query_ws_;
   ProblemObserver observer_;
+  // Step halving (Settings::max_step_halvings): per level, the state a step or
+  // substep started from and the command at the end of the interval being
+  // halved; the outputs of the substeps, accumulated.
+  std::vector<State> refine_start_;
+  std::vector<std::vector<double>> refine_commands_;
+  std::unique_ptr<StepOutputs> refine_out_;
+
+  StepStatus advance(double h, int halvings, int substep);
+  StepStatus takeHalves(double h, int level, int index, StepStats& total);
 };
 
 }  // namespace nscd

@@ -11,8 +11,8 @@
 
 namespace nscd {
 
-void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepWorkspace& ws,
-                                 StepStats& st) {
+void buildFrictionContactProblem(const Model& m, const State& s, double h, int kept,
+                                 StepWorkspace& ws, StepStats& st) {
   const int r = ws.rows;
   const auto G = ws.G.topRows(r);
   if ((ws.vfree.array() * 0.0).sum() == 0) {  // every entry finite (friction_contact_solver.cpp)
@@ -77,7 +77,7 @@ void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepW
     // also close its gap g in the step: U_N+ >= -e U_N- - g/h. Held to U_N+ >=
     // -e U_N- like a contact that touches, it stopped its body g short, and a link
     // kicked across a tight bearing had no answer (stress cases 366, 721, 66).
-    ws.b[blk.row] += blk.contact.late_slack / m.settings.dt;
+    ws.b[blk.row] += blk.contact.late_slack / h;
     if (warm) {
       const int slot = blk.contact.slot;
       const bool valid = slot >= 0 && s.warm_valid[slot] != 0;

@@ -104,6 +104,10 @@ const std::vector<SettingRule>& settingRules() {
        [](Settings& st, const std::string& key, const std::string& v) {
          st.max_iterations = intValue(key, v, 1, 10000000);
        }},
+      {"max_step_halvings",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         st.max_step_halvings = intValue(key, v, 0, 20);
+       }},
       {"projection",
        [](Settings& st, const std::string& key, const std::string& v) {
          st.projection = boolValue(key, v);

@@ -21,15 +21,20 @@ constexpr int kLateActivationRounds = 3;
 
 Simulator::Simulator(Model model)
     : model_(std::move(model)), ws_(new StepWorkspace), out_(new StepOutputs),
-      query_ws_(new StepWorkspace) {
+      query_ws_(new StepWorkspace), refine_out_(new StepOutputs) {
   const Model& m = model_;
   initStepWorkspace(m, *ws_);
   initStepWorkspace(m, *query_ws_);
   initStepOutputs(m, *out_);
+  initStepOutputs(m, *refine_out_);
   state_ = initialState(m, *ws_);
   placeJournals(m, state_);
   assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
+  // Sized once: a halving copies states and commands without allocating.
+  const int levels = m.settings.max_step_halvings + 1;
+  refine_start_.assign(levels, state_);
+  refine_commands_.assign(levels, state_.commands);
 }
 
 Simulator::~Simulator() = default;
@@ -70,11 +75,53 @@ bool Simulator::setCommand(int actuator, double value) {
 }
 
 StepStatus Simulator::step() {
+  const double h = model_.settings.dt;
+  if (model_.settings.max_step_halvings == 0) return advance(h, 0, 0);
+  refine_start_[0] = state_;
+  const StepStatus whole = advance(h, 0, 0);
+  if (whole != StepStatus::NotConverged) return whole;
+  // Unsolved: taken again from its start as two steps of h/2 (step_halving.cpp).
+  // The attempt's work is counted, its answer dropped.
+  StepStats total;
+  startHalvedStep(out_->stats, total, *refine_out_);
+  state_ = refine_start_[0];
+  const StepStatus halves = takeHalves(h, 1, 0, total);
+  finishHalvedStep(total, *refine_out_, *out_);
+  return halves;
+}
+
+// [t, t + h] as two steps of h/2 (level: h/2 = dt / 2^level); each taken again in
+// halves while unsolved, down to max_step_halvings. state_.commands holds the
+// command at the end of the interval, state_.prev_commands the one at its start:
+// the first half ends on their mean (a prescribed motion keeps its rate).
+StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& total) {
+  const int max_level = model_.settings.max_step_halvings;
+  std::vector<double>& end_command = refine_commands_[level];
+  end_command = state_.commands;
+  for (int half = 0; half < 2; ++half) {
+    for (size_t i = 0; i < end_command.size(); ++i)
+      state_.commands[i] =
+          half == 0 ? 0.5 * (state_.prev_commands[i] + end_command[i]) : end_command[i];
+    if (level < max_level) refine_start_[level] = state_;
+    StepStatus s = advance(0.5 * h, level, 2 * index + half);
+    if (s == StepStatus::NotConverged && level < max_level) {
+      total.iterations += out_->stats.iterations;  // the dropped attempt's work
+      state_ = refine_start_[level];
+      s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
+    } else {
+      addSubstep(out_->stats, level, *out_, total, *refine_out_);
+    }
+    if (s == StepStatus::NonFinite) return s;
+  }
+  return total.converged ? StepStatus::Ok : StepStatus::NotConverged;
+}
+
+// One step (or substep) of length h.
+StepStatus Simulator::advance(double h, int halvings, int substep) {
   const Model& m = model_;
   const Settings& set = m.settings;
   StepWorkspace& ws = *ws_;
   StepStats& st = out_->stats;
-  const double h = set.dt;
   clearStepOutputs(*out_);
   clearConstraintRows(ws);
   for (size_t i = 0; i < state_.commands.size(); ++i)
@@ -99,16 +146,16 @@ StepStatus Simulator::step() {
     int kept = 0, iterations = 0;
     for (int round = 0;; ++round) {
       assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);
-      buildFrictionContactProblem(m, state_, kept, ws, st);
+      buildFrictionContactProblem(m, state_, h, kept, ws, st);
       SolverOptions options = solverOptions(set);
       if (observer_) ws.P_start.head(ws.rows) = ws.P.head(ws.rows);
       SolverReport rep = solveFrictionContact(ws, options);
       if (observer_) {
         const int r = ws.rows;
         observer_(ProblemView{state_.t, round, ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem,
-                              ws.P_start.head(r), ws.P.head(r), rep});
+                              ws.P_start.head(r), ws.P.head(r), rep, halvings, substep});
       }
-      applyImpactSafeguards(m, ws, options, rep, st);
+      applyImpactSafeguards(m, ws, options, rep, st, halvings == set.max_step_halvings);
       iterations += rep.iterations;
       st.iterations = iterations;
       st.residual = rep.residual;
@@ -123,6 +170,8 @@ StepStatus Simulator::step() {
     ws.vnew = ws.vfree;
   }
   st.rows = ws.rows;
+  // Unsolved, and the step can still be halved: the caller takes it again.
+  if (!st.converged && halvings < set.max_step_halvings) return StepStatus::NotConverged;
   storeImpulses(m, h, state_, ws, *out_);
 
   // 5. update

@@ -100,8 +100,8 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
 // ---- 4a. the friction-contact problem (friction_contact_problem.cpp): b = G v_free
 // minus the bilateral targets plus the Newton impact shift e U_N,k, the problem
 // blocks, and the impulses of rows from `kept` on warm-started from the State.
-void buildFrictionContactProblem(const Model& m, const State& s, int kept, StepWorkspace& ws,
-                                 StepStats& st);
+void buildFrictionContactProblem(const Model& m, const State& s, double h, int kept,
+                                 StepWorkspace& ws, StepStats& st);
 // Takes the Newton impact shift back out of b: the plastic problem.
 void removeRestitution(StepWorkspace& ws);
 
@@ -113,10 +113,12 @@ SolverReport solveFrictionContact(StepWorkspace& ws, SolverOptions& options);
 void applyImpulses(StepWorkspace& ws);
 
 // ---- 4c. safeguards (impact_safeguards.cpp): an impact that would add energy is
-// solved plastic; a problem left far from solved is taken frictionless and
-// plastic, then scaled so it adds no kinetic energy. Each counted in st.
+// solved plastic; and, as the last resort (the step cannot be halved any more), a
+// problem left unsolved is solved plastic, one left far from solved is taken
+// frictionless and plastic, then scaled so it adds no kinetic energy. Each
+// counted in st.
 void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
-                           SolverReport& rep, StepStats& st);
+                           SolverReport& rep, StepStats& st, bool last_resort);
 
 // ---- 4d. store (impulse_reports.cpp): the impulses as the next step's warm start
 // (in the State), the efforts of prescribed motions, one report per contact point
@@ -159,5 +161,18 @@ double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double 
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement) and position servos (effort x joint motion).
 double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const StepOutputs& out, const State& s);
+
+// ---- 8. step halving (step_halving.cpp): a step left unsolved is taken again
+// as substeps (Simulator::step); their stats and outputs are gathered here.
+// The unsolved attempt: its work goes into `total`, the accumulated outputs start at 0.
+void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc);
+// A substep kept, of length dt / 2^level: its stats into `total`, its
+// actuator efforts and contact forces (impulse / its length) into `acc`, as
+// their share of the step's impulse.
+void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepStats& total,
+                StepOutputs& acc);
+// The step's outputs: those of the last substep (contact points, penetration),
+// with the stats of `total` and the forces and efforts averaged over the step.
+void finishHalvedStep(const StepStats& total, const StepOutputs& acc, StepOutputs& out);
 
 }  // namespace nscd

@@ -149,7 +149,11 @@ int main(int argc, char** argv) {
     sim->setProblemObserver([&](const nscd::ProblemView& v) {
       if (dump_every == 0 ? v.report.converged : (k - 1) % dump_every != 0) return;
       char name[64];
-      std::snprintf(name, sizeof name, "/step%08ld_r%d.txt", k, v.round);
+      if (v.halvings == 0)
+        std::snprintf(name, sizeof name, "/step%08ld_r%d.txt", k, v.round);
+      else  // a substep of the step taken in halves (Settings::max_step_halvings)
+        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d.txt", k, v.halvings, v.substep,
+                      v.round);
       nscd::writeProblemFile(dump_dir + name, v);
       ++dumped;
     });
@@ -161,6 +165,7 @@ int main(int argc, char** argv) {
   ProgressBar progress(!quiet && isatty(2), steps * h);
   long iters_sum = 0;
   int iters_max = 0, unconverged = 0, plastic_retries = 0, frictionless_fallbacks = 0, energy_capped = 0;
+  int halved = 0, substeps_max = 1;
   double residual_max = 0, max_pen = 0;
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] {
@@ -177,6 +182,8 @@ int main(int argc, char** argv) {
     max_pen = std::max(max_pen, s.max_penetration);
     if (st == nscd::StepStatus::NotConverged) ++unconverged;
     plastic_retries += s.plastic_retry;
+    halved += s.substeps > 1;
+    substeps_max = std::max(substeps_max, s.substeps);
     frictionless_fallbacks += s.frictionless_fallback;
     energy_capped += s.energy_capped;
     if (st == nscd::StepStatus::NonFinite) {
@@ -202,6 +209,8 @@ int main(int argc, char** argv) {
   summary.residual_max = residual_max;
   summary.unconverged_steps = unconverged;
   summary.plastic_retries = plastic_retries;
+  summary.halved_steps = halved;
+  summary.substeps_max = substeps_max;
   summary.frictionless_fallbacks = frictionless_fallbacks;
   summary.energy_capped_steps = energy_capped;
   summary.max_penetration = max_pen;

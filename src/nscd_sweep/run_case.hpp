@@ -47,6 +47,8 @@ struct CaseMetrics {
   double kinetic_peak = 0;     // max over steps of the kinetic energy, J
   // Kept for the JSON summary (CaseOptions::summary_json), not in the CSV row.
   long plastic_retries = 0;
+  long halved_steps = 0;  // steps taken again in halves (Settings::max_step_halvings)
+  int substeps_max = 1;   // the most substeps one step took
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;
   // The fallbacks' effect: the largest kinetic-energy gain and loss one caused against

@@ -338,6 +338,8 @@ class PySimulator {
     d["plastic_fallback"] = s.plastic_fallback;
     d["late_contacts"] = s.late_contacts;
     d["plastic_retry"] = s.plastic_retry;
+    d["substeps"] = s.substeps;
+    d["halvings"] = s.halvings;
     d["frictionless_fallback"] = s.frictionless_fallback;
     d["energy_capped"] = s.energy_capped;
     d["projection_energy_removed"] = s.projection_energy_removed;

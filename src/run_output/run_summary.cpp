@@ -24,6 +24,8 @@ std::string runSummaryJson(const RunSummary& r) {
          ",\"iters_max\":" + std::to_string(r.iters_max) +
          ",\"residual_max\":" + jsonNumber(r.residual_max) +
          ",\"unconverged_steps\":" + std::to_string(r.unconverged_steps) +
+         ",\"halved_steps\":" + std::to_string(r.halved_steps) +
+         ",\"substeps_max\":" + std::to_string(r.substeps_max) +
          ",\"plastic_retries\":" + std::to_string(r.plastic_retries) +
          ",\"frictionless_fallbacks\":" + std::to_string(r.frictionless_fallbacks) +
          ",\"energy_capped_steps\":" + std::to_string(r.energy_capped_steps) +

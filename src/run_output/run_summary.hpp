@@ -14,6 +14,8 @@ struct RunSummary {
   int iters_max = 0;
   double residual_max = 0;
   long unconverged_steps = 0;
+  long halved_steps = 0;  // steps taken again in halves (Settings::max_step_halvings)
+  int substeps_max = 1;   // the most substeps one step took
   long plastic_retries = 0;
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;

@@ -1,0 +1,135 @@
+// Step halving (Settings::max_step_halvings, step_halving.cpp): a step whose
+// problem stays unsolved is taken again as two steps of h/2, each halved again
+// while unsolved. Taken in halves, a step must be the same steps of h/2^k that a
+// run at that step size takes, with the commands of a prescribed motion followed
+// in between and the efforts averaged over the step.
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/simulator.hpp"
+#include "test_support.hpp"
+
+using namespace nscd;
+
+namespace {
+
+constexpr double kDt = 1e-5;
+constexpr int kSteps = 6;
+
+std::string text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+// The C-60 with its handle driven from t = 0 (a prescribed motion against the
+// mechanism's springs and contacts). A tolerance no solve can reach leaves every
+// problem unsolved, so every step is halved down to max_step_halvings.
+Simulator c60(double dt, int halvings, double tolerance) {
+  return Simulator(loadScene(nscd_test::scenePath("urdf/c60.urdf"),
+                             {{"dt", text(dt), "test"},
+                              {"max_step_halvings", std::to_string(halvings), "test"},
+                              {"tolerance", text(tolerance == 0 ? 1e-300 : tolerance), "test"},
+                              {"max_iterations", "40", "test"}}));
+}
+
+// The handle at rest until the mechanism has settled (its contacts loaded by the
+// springs: a problem with P = 0 as its answer is solved exactly, at any
+// tolerance), then turned.
+constexpr int kSettle = 300;
+const CommandSchedule& handleRamp() {
+  static const CommandSchedule s = parseCommandSchedule("handle=0:0,0.003:0,0.013:1.2");
+  return s;
+}
+
+void setHandle(Simulator& sim, double t) {
+  sim.setCommand(sim.model().findActuator("handle"), handleRamp().value(t));
+}
+
+// The state after kSettle steps of kDt at the default settings.
+const State& settled() {
+  static const State s = [] {
+    Simulator sim = c60(kDt, 4, 1e-8);
+    for (int k = 1; k <= kSettle; ++k) {
+      setHandle(sim, k * kDt);
+      sim.step();
+    }
+    return sim.state();
+  }();
+  return s;
+}
+
+}  // namespace
+
+// Every step unsolved, 2 halvings: each step of h is taken in 4 of h/4 (after a
+// whole attempt and two halves, all dropped). The bodies, the step's stats and
+// the handle's effort must be those of a run at h/4 with max_step_halvings 0:
+// the same stages on the same states, but for the command in between, which the
+// halving interpolates (the run at h/4 reads the schedule), so equal to round-off.
+TEST(StepHalving, HalvedStepIsTheStepsOfItsLength) {
+  Simulator halved = c60(kDt, 2, 0);
+  Simulator quarter = c60(kDt / 4, 0, 0);
+  halved.setState(settled());
+  quarter.setState(settled());
+  const int handle = halved.model().findActuator("handle");
+  ASSERT_GE(handle, 0);
+  double effort_scale = 0;
+  for (int k = kSettle + 1; k <= kSettle + kSteps; ++k) {
+    setHandle(halved, k * kDt);
+    EXPECT_EQ(halved.step(), StepStatus::NotConverged) << "step " << k;
+    const StepStats& s = halved.stats();
+    EXPECT_EQ(s.substeps, 4) << "step " << k;
+    EXPECT_EQ(s.halvings, 2) << "step " << k;
+    EXPECT_FALSE(s.converged);
+    double effort = 0;
+    int iterations = 0;
+    for (int j = 1; j <= 4; ++j) {
+      setHandle(quarter, ((k - 1) * 4 + j) * (kDt / 4));
+      quarter.step();
+      effort += quarter.actuatorEffort(handle) / 4;
+      iterations += quarter.stats().iterations;
+      EXPECT_EQ(quarter.stats().substeps, 1);
+    }
+    // The attempts dropped (the whole step, its two halves) did work too.
+    EXPECT_GT(s.iterations, iterations) << "step " << k;
+    effort_scale = std::max(effort_scale, std::abs(effort));
+    EXPECT_NEAR(halved.actuatorEffort(handle), effort, 1e-9 * std::abs(effort) + 1e-12) << "step " << k;
+    EXPECT_NEAR(halved.state().t, quarter.state().t, 1e-18) << "step " << k;
+    EXPECT_DOUBLE_EQ(halved.command(handle), handleRamp().value(k * kDt));
+    for (size_t b = 0; b < halved.state().bodies.size(); ++b) {
+      const BodyState& x = halved.state().bodies[b];
+      const BodyState& y = quarter.state().bodies[b];
+      EXPECT_LT((x.x - y.x).norm(), 1e-13) << "step " << k << " body " << b;
+      EXPECT_LT((x.v - y.v).norm(), 1e-8 * (1 + y.v.norm())) << "step " << k << " body " << b;
+      EXPECT_LT((x.w - y.w).norm(), 1e-8 * (1 + y.w.norm())) << "step " << k << " body " << b;
+    }
+  }
+  EXPECT_GT(effort_scale, 1e-6) << "the handle did no work: the effort check proved nothing";
+}
+
+// A step the solver settles is never halved, and halving off is the old stepping:
+// with the default tolerance the C-60 steps the same bits either way.
+TEST(StepHalving, SolvedStepsAreNotTouched) {
+  Simulator with = c60(kDt, 4, 1e-8);
+  Simulator without = c60(kDt, 0, 1e-8);
+  with.setState(settled());
+  without.setState(settled());
+  for (int k = kSettle + 1; k <= kSettle + 3 * kSteps; ++k) {
+    setHandle(with, k * kDt);
+    setHandle(without, k * kDt);
+    ASSERT_EQ(with.step(), StepStatus::Ok) << "step " << k;
+    ASSERT_EQ(without.step(), StepStatus::Ok) << "step " << k;
+    EXPECT_EQ(with.stats().substeps, 1);
+    EXPECT_EQ(with.stats().iterations, without.stats().iterations);
+  }
+  for (size_t b = 0; b < with.state().bodies.size(); ++b) {
+    EXPECT_EQ(with.state().bodies[b].x, without.state().bodies[b].x) << "body " << b;
+    EXPECT_EQ(with.state().bodies[b].v, without.state().bodies[b].v) << "body " << b;
+  }
+}
