@@ -133,3 +133,22 @@ TEST(StepHalving, SolvedStepsAreNotTouched) {
     EXPECT_EQ(with.state().bodies[b].v, without.state().bodies[b].v) << "body " << b;
   }
 }
+
+// Halving copies states and commands into buffers sized at construction: a
+// halved step allocates nothing once the solver's buffers have grown.
+TEST(StepHalving, HalvedStepsAllocateNothing) {
+  Simulator sim = c60(kDt, 2, 0);
+  sim.setState(settled());
+  int k = kSettle;
+  for (int i = 0; i < 3; ++i, ++k) {  // the solver's buffers grow to the largest problem
+    setHandle(sim, (k + 1) * kDt);
+    sim.step();
+  }
+  const long before = nscd_test::allocationCount();
+  for (int i = 0; i < 2; ++i, ++k) {
+    setHandle(sim, (k + 1) * kDt);
+    sim.step();
+    EXPECT_EQ(sim.stats().substeps, 4);
+  }
+  EXPECT_EQ(nscd_test::allocationCount(), before);
+}
