@@ -84,6 +84,9 @@ def stress_section(out, docs):
     s.append("| runs with unconverged solver steps | %d (%d steps, %.2f%% of all; worst residual %.3g) |\n"
              % (summ["unconverged_runs"], summ["unconverged_steps"],
                 100.0 * summ["unconverged_steps"] / max(1, summ["total_steps"]), summ["unconverged_residual_max"]))
+    if "halved_steps" in summ:
+        s.append("| steps taken again in halves (most substeps in one step) | %d (%d) |\n"
+                 % (summ["halved_steps"], summ["substeps_max"]))
     if "plastic_retry_steps" in summ:
         s.append("| plastic retries (restitution unsolved, solved with e = 0) / frictionless fallbacks | %d / %d |\n"
                  % (summ["plastic_retry_steps"], summ["frictionless_fallback_steps"]))
