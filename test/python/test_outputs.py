@@ -63,6 +63,7 @@ def test_contact_points_of_a_block_resting_on_a_slope(nscd_sim):
     assert np.linalg.norm(ft) == pytest.approx(contacts['ft'][0])
     stats = sim.stats()
     assert stats['active_contacts'] >= 1 and stats['converged']
+    assert stats['substeps'] == 1 and stats['halvings'] == 0  # solved: not taken in halves
 
 
 def test_every_and_include_start(nscd_sim):
