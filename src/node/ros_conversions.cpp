@@ -169,6 +169,7 @@ diagnostic_msgs::DiagnosticStatus toDiagnosticStatus(const DiagnosticsWindow& w,
   add("active_contacts", std::to_string(w.active_contacts));
   add("max_penetration", formatDouble(w.max_penetration));
   add("unconverged_steps", std::to_string(w.unconverged_total));
+  add("halved_steps", std::to_string(w.halved_total));
   add("step_failures", std::to_string(w.step_failures));
   add("paused", w.paused ? "true" : "false");
   return s;

@@ -57,6 +57,7 @@ struct DiagnosticsWindow {
   double max_penetration = 0;           // of the last step
   unsigned long long unconverged_total = 0;
   unsigned long long unconverged_window = 0;
+  unsigned long long halved_total = 0;  // steps taken again in halves (max_step_halvings)
   unsigned long long step_failures = 0;
   bool paused = false;
   bool failed = false;

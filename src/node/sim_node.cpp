@@ -251,6 +251,7 @@ class SimNode {
     window_.iterations_sum += st.iterations;
     window_.iterations_max = std::max(window_.iterations_max, st.iterations);
     window_.residual_max = std::max(window_.residual_max, st.residual);
+    window_.halved_total += st.substeps > 1;
     if (status == nscd::StepStatus::NotConverged) {
       ++window_.unconverged_total;
       ++window_.unconverged_window;
@@ -307,6 +308,7 @@ class SimNode {
       restartSchedules();
       steps_ = 0;
       window_.unconverged_total = 0;
+      window_.halved_total = 0;
       window_.step_failures = 0;
       failed_ = false;
       failure_.clear();
@@ -519,9 +521,11 @@ class SimNode {
       msg.status.push_back(toDiagnosticStatus(window_, scene_name_));
       // Totals carry over; the rest starts a new window.
       const unsigned long long unconverged = window_.unconverged_total;
+      const unsigned long long halved = window_.halved_total;
       const unsigned long long failures = window_.step_failures;
       window_ = DiagnosticsWindow{};
       window_.unconverged_total = unconverged;
+      window_.halved_total = halved;
       window_.step_failures = failures;
       window_publishes_ = 0;
       window_start_ = now;

@@ -114,7 +114,7 @@ TEST(SimTime, DiagnosticsReportSolverStatistics) {
   EXPECT_EQ(s.level, diagnostic_msgs::DiagnosticStatus::OK);
   auto v = diagnosticValues(s);
   for (const char* key : {"sim_time", "steps", "rtf", "publish_rate", "iterations", "residual",
-                          "active_contacts", "unconverged_steps", "step_failures"})
+                          "active_contacts", "unconverged_steps", "halved_steps", "step_failures"})
     EXPECT_TRUE(v.count(key)) << key;
   EXPECT_GT(std::stod(v["rtf"]), 0.25);
   EXPECT_GT(std::stod(v["publish_rate"]), 10.0);
