@@ -143,7 +143,9 @@ class Simulator {
   // std::invalid_argument if the sizes do not fit the model or a value is not finite.
   void setState(const State& state);
 
-  // One time step of length model().settings.dt.
+  // One time step of length model().settings.dt; if its friction-contact problem
+  // stays unsolved, taken again in halves (Settings::max_step_halvings,
+  // StepStats::substeps). NotConverged: unsolved even at the smallest substep.
   StepStatus step();
   // Called after every friction-contact solve of step() (for dumps and solver
   // studies); an empty function removes it. Costs a copy of the warm start per
