@@ -177,6 +177,49 @@ TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
   }
 }
 
+// The attempt a halved step drops leaves the state as it found it (advance() puts
+// back the ring hints its contact search moved): the step taken in halves is then
+// bit for bit the two steps of h/2 that a run at h/2 takes from the same state
+// (one fewer halving allowed, so both reach the same smallest substep). Case 939's
+// first halved step.
+TEST(StressShort, HalvedStepStartsFromTheStepsState) {
+  const StressCase c = makeStressCase(kSeed, 939);
+  char half_dt[32];
+  std::snprintf(half_dt, sizeof half_dt, "%.17g", 0.5 * c.dt);
+  nscd::Simulator run(nscd::loadSceneFromString(c.urdf, "stress"));
+  nscd::State before = run.state();
+  int k = 0;
+  for (; k < 1000; ++k) {
+    before = run.state();
+    ASSERT_NE(run.step(), nscd::StepStatus::NonFinite) << reproduce(c, 1000);
+    if (run.stats().substeps > 1) break;
+  }
+  ASSERT_LT(k, 1000) << "case 939 no longer halves a step: pick another case";
+  nscd::Simulator whole(nscd::loadSceneFromString(c.urdf, "stress"));
+  nscd::Simulator halves(nscd::loadSceneFromString(
+      c.urdf, "stress", {{"dt", half_dt, "test"}, {"max_step_halvings", "3", "test"}}));
+  whole.setState(before);
+  halves.setState(before);
+  whole.step();
+  ASSERT_GT(whole.stats().substeps, 1) << "step " << k;
+  halves.step();
+  halves.step();
+  EXPECT_EQ(whole.state().t, halves.state().t);
+  for (size_t b = 0; b < whole.state().bodies.size(); ++b) {
+    const nscd::BodyState& x = whole.state().bodies[b];
+    const nscd::BodyState& y = halves.state().bodies[b];
+    EXPECT_EQ(x.x, y.x) << "step " << k << " body " << b;
+    EXPECT_EQ(x.v, y.v) << "step " << k << " body " << b;
+    EXPECT_EQ(x.w, y.w) << "step " << k << " body " << b;
+    EXPECT_EQ(x.q.coeffs(), y.q.coeffs()) << "step " << k << " body " << b;
+  }
+  const std::vector<double>& ha = whole.state().ring_hint;
+  const std::vector<double>& hb = halves.state().ring_hint;
+  ASSERT_EQ(ha.size(), hb.size());
+  for (size_t i = 0; i < ha.size(); ++i)  // NaN: no hint yet
+    EXPECT_TRUE(ha[i] == hb[i] || (std::isnan(ha[i]) && std::isnan(hb[i]))) << "hint " << i;
+}
+
 TEST(StressShort, FormerFailuresStayBounded) {
   const std::vector<Outcome> runs = runCaseList(
       {383, 485, 688, 814, 453, 505, 456, 681, 866, 455, 309, 815}, defaultJobs(), 1000);

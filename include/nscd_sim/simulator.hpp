@@ -202,10 +202,8 @@ class Simulator {
   // writes the step's workspace, so it cannot change the trajectory.
   std::unique_ptr<StepWorkspace> query_ws_;
   ProblemObserver observer_;
-  // Step halving (Settings::max_step_halvings): per level, the state a step or
-  // substep started from and the command at the end of the interval being
-  // halved; the outputs of the substeps, accumulated.
-  std::vector<State> refine_start_;
+  // Step halving (Settings::max_step_halvings): per level, the command at the end
+  // of the interval being halved; the outputs of the substeps, accumulated.
   std::vector<std::vector<double>> refine_commands_;
   std::unique_ptr<StepOutputs> refine_out_;
 

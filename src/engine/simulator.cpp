@@ -31,10 +31,8 @@ Simulator::Simulator(Model model)
   placeJournals(m, state_);
   assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
-  // Sized once: a halving copies states and commands without allocating.
-  const int levels = m.settings.max_step_halvings + 1;
-  refine_start_.assign(levels, state_);
-  refine_commands_.assign(levels, state_.commands);
+  // Sized once: a halving copies commands without allocating.
+  refine_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
 }
 
 Simulator::~Simulator() = default;
@@ -76,15 +74,12 @@ bool Simulator::setCommand(int actuator, double value) {
 
 StepStatus Simulator::step() {
   const double h = model_.settings.dt;
-  if (model_.settings.max_step_halvings == 0) return advance(h, 0, 0);
-  refine_start_[0] = state_;
   const StepStatus whole = advance(h, 0, 0);
-  if (whole != StepStatus::NotConverged) return whole;
-  // Unsolved: taken again from its start as two steps of h/2 (step_halving.cpp).
-  // The attempt's work is counted, its answer dropped.
+  if (whole != StepStatus::NotConverged || model_.settings.max_step_halvings == 0) return whole;
+  // Unsolved: taken again from its start (advance left the state as it found it)
+  // as two steps of h/2 (step_halving.cpp). The attempt's work is counted.
   StepStats total;
   startHalvedStep(out_->stats, total, *refine_out_);
-  state_ = refine_start_[0];
   const StepStatus halves = takeHalves(h, 1, 0, total);
   finishHalvedStep(total, *refine_out_, *out_);
   return halves;
@@ -102,11 +97,9 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
     for (size_t i = 0; i < end_command.size(); ++i)
       state_.commands[i] =
           half == 0 ? 0.5 * (state_.prev_commands[i] + end_command[i]) : end_command[i];
-    if (level < max_level) refine_start_[level] = state_;
     StepStatus s = advance(0.5 * h, level, 2 * index + half);
     if (s == StepStatus::NotConverged && level < max_level) {
       total.iterations += out_->stats.iterations;  // the dropped attempt's work
-      state_ = refine_start_[level];
       s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
     } else {
       addSubstep(out_->stats, level, *out_, total, *refine_out_);
@@ -116,12 +109,17 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
   return total.converged ? StepStatus::Ok : StepStatus::NotConverged;
 }
 
-// One step (or substep) of length h.
+// One step (or substep) of length h. If it is left unsolved while it can still be
+// halved, it returns NotConverged with the State as it found it: every stage before
+// that point reads the State (const), but for the ring hints of the contact search,
+// which are put back.
 StepStatus Simulator::advance(double h, int halvings, int substep) {
   const Model& m = model_;
   const Settings& set = m.settings;
   StepWorkspace& ws = *ws_;
   StepStats& st = out_->stats;
+  const bool may_halve = halvings < set.max_step_halvings;
+  if (may_halve) ws.halving_hint = state_.ring_hint;  // same size: no allocation
   clearStepOutputs(*out_);
   clearConstraintRows(ws);
   for (size_t i = 0; i < state_.commands.size(); ++i)
@@ -155,7 +153,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
         observer_(ProblemView{state_.t, round, ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem,
                               ws.P_start.head(r), ws.P.head(r), rep, halvings, substep});
       }
-      applyImpactSafeguards(m, ws, options, rep, st, halvings == set.max_step_halvings);
+      applyImpactSafeguards(m, ws, options, rep, st, !may_halve);
       iterations += rep.iterations;
       st.iterations = iterations;
       st.residual = rep.residual;
@@ -171,7 +169,10 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   }
   st.rows = ws.rows;
   // Unsolved, and the step can still be halved: the caller takes it again.
-  if (!st.converged && halvings < set.max_step_halvings) return StepStatus::NotConverged;
+  if (!st.converged && may_halve) {
+    state_.ring_hint = ws.halving_hint;
+    return StepStatus::NotConverged;
+  }
   storeImpulses(m, h, state_, ws, *out_);
 
   // 5. update

@@ -4,9 +4,10 @@
 // that change the physics (impact_safeguards.cpp) wait for the smallest step.
 // Why: within one step a light link can cross a tight bearing, so that contacts
 // on both sides of it enter one problem with Newton's law on each; such a problem
-// may have no solution at all (stress cases 939, 175: not strictly feasible, no
+// may have no solution at all (stress case 939: not strictly feasible, and no
 // Siconos solver solves them either), while in h/2 or h/4 the link meets one side
-// at a time. Here: the substeps' stats and outputs gathered into the step's.
+// at a time. The attempt a halving drops leaves the State as it found it
+// (Simulator::advance). Here: the substeps' stats and outputs gathered into the step's.
 #include <algorithm>
 #include <cmath>
 

@@ -124,6 +124,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.deferred.reserve(f.contact_slots);
   ws.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
   ws.check_hint = ws.ring_hint;
+  ws.halving_hint = ws.ring_hint;
   initNarrowphaseCache(ws.nbodies, static_cast<int>(m.contacts.size()),
                        static_cast<int>(m.clearance_joints.size()), ws.narrow);
   ws.row_bodies.assign(mr, {kGround, kGround});

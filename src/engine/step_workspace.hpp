@@ -125,6 +125,7 @@ class StepWorkspace {
   std::vector<ContactCandidate> deferred;
   std::vector<double> ring_hint;  // ring angles the pass starts from (2 per clearance joint)
   std::vector<double> check_hint;  // projection: the ring hints before its check
+  std::vector<double> halving_hint;  // a step that may be halved: the ring hints before its search
 
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
