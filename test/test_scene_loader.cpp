@@ -776,7 +776,7 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_EQ(s.joint_work, JointWork::Moreau);
   set("joint_work", "none");
   EXPECT_EQ(s.joint_work, JointWork::None);
-  EXPECT_EQ(s.max_step_halvings, 4);
+  EXPECT_EQ(s.max_step_halvings, 8);
   set("max_step_halvings", "0");
   EXPECT_EQ(s.max_step_halvings, 0);
   set("max_step_halvings", "20");

@@ -185,7 +185,7 @@ struct Settings {
   // again as two steps of h/2, each of them halved again while unsolved, down to
   // h / 2^max_step_halvings, where the fallbacks of impact_safeguards.cpp apply.
   // 0: never.
-  int max_step_halvings = 4;
+  int max_step_halvings = 8;
   bool projection = true;           // combined projection after each step
   double projection_tolerance = 1e-9;  // m (and rad for orientation rows)
   int projection_max_iterations = 100;  // passes; backtracking keeps extra passes from diverging
