@@ -539,3 +539,61 @@ TEST(StressShort, FallbackEffectIsMeasuredWhereItFires) {
   EXPECT_GT(retries, 20);
   EXPECT_GT(retry_nonzero, retries / 2);
 }
+
+// A safeguard's solve of the step's problem again is shown to the problem
+// observer as the step's own solve is (ProblemView::resolve; nscd_run
+// --dump-problems names its file after it), so the problems behind the
+// fallbacks can be dumped and studied: on case 446 with halving off, a step
+// shows a converged "plastic_retry" view if and only if it took a plastic retry,
+// a "frictionless" view iff it took the frictionless fallback, a "plastic" view
+// iff it took an impact plastic; and solving a view's problem again from its warm start
+// gives the answer it showed, bit for bit.
+TEST(StressShort, SafeguardSolvesAreShownToTheObserver) {
+  const StressCase c = makeStressCase(kSeed, 446);
+  nscd::Simulator sim(nscd::loadSceneFromString(c.urdf, "stress", {{"max_step_halvings", "0", "test"}}));
+  struct Seen {
+    std::string kind;
+    bool converged;
+    Eigen::MatrixXd W;
+    Eigen::VectorXd b, P_start, P;
+    std::vector<nscd::ProblemBlock> blocks;
+  };
+  std::vector<Seen> seen;
+  sim.setProblemObserver([&](const nscd::ProblemView& v) {
+    if (v.resolve) seen.push_back({v.resolve, v.report.converged, v.W, v.b, v.P_start, v.P, v.blocks});
+  });
+  nscd::FrictionContactSolver solver;
+  nscd::SolverOptions o;
+  o.tolerance = sim.model().settings.tolerance;
+  o.max_iterations = sim.model().settings.max_iterations;
+  int retries = 0, fallbacks = 0, plastic = 0, resolved = 0;
+  for (int k = 0; k < 1000; ++k) {
+    seen.clear();
+    ASSERT_NE(sim.step(), nscd::StepStatus::NonFinite) << reproduce(c, 1000);
+    const nscd::StepStats& s = sim.stats();
+    int n_retry = 0, n_frictionless = 0, n_plastic = 0;
+    for (const Seen& v : seen) {
+      if (v.kind == "plastic_retry") n_retry += v.converged;  // a failed retry is shown, not taken
+      else if (v.kind == "frictionless") ++n_frictionless;
+      else if (v.kind == "plastic") ++n_plastic;
+      else ADD_FAILURE() << "step " << k << ": unknown re-solve " << v.kind;
+      if (resolved >= 20) continue;
+      Eigen::VectorXd P = v.P_start;
+      solver.solve(v.W, v.b, v.blocks, o, P);
+      EXPECT_EQ((P - v.P).cwiseAbs().maxCoeff(), 0.0) << "step " << k << " " << v.kind;
+      ++resolved;
+    }
+    // A step solves once per round of late contacts, each with its safeguards.
+    EXPECT_EQ(n_retry > 0, s.plastic_retry) << "step " << k;
+    EXPECT_EQ(n_frictionless > 0, s.frictionless_fallback) << "step " << k;
+    EXPECT_EQ(n_plastic > 0, s.plastic_fallback) << "step " << k;
+    retries += s.plastic_retry;
+    fallbacks += s.frictionless_fallback;
+    plastic += s.plastic_fallback;
+  }
+  std::printf("[ figures  ] case 446: %d plastic retries, %d frictionless fallbacks, %d plastic "
+              "impacts shown; %d re-solved\n", retries, fallbacks, plastic, resolved);
+  EXPECT_GT(retries, 20);
+  EXPECT_GT(fallbacks, 4);
+  EXPECT_EQ(resolved, 20);
+}

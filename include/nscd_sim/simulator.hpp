@@ -121,6 +121,10 @@ struct ProblemView {
   // substep-th of the step at that length (0 and 0: the step taken whole).
   int halvings = 0;
   int substep = 0;
+  // Null for the step's own solve; for a safeguard's solve of the step's problem
+  // again (impact_safeguards.cpp): "plastic" (an impact that would add energy),
+  // "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
+  const char* resolve = nullptr;
 };
 using ProblemObserver = std::function<void(const ProblemView&)>;
 

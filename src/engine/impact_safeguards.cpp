@@ -78,14 +78,25 @@ bool impactGainsEnergy(const Model& m, const StepWorkspace& ws) {
 }  // namespace
 
 void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
-                           SolverReport& rep, StepStats& st, bool last_resort) {
+                           SolverReport& rep, StepStats& st, bool last_resort,
+                           const ResolveObserver& observe) {
   const int r = ws.rows;
   const auto W = ws.W.topLeftCorner(r, r);
   const auto b = ws.b.head(r);
+  // The step's problem as it now stands (b and mu as the safeguard set them),
+  // solved again from the current answer.
+  const auto solveAgain = [&](const char* kind) {
+    if (observe.fn) ws.P_start.head(r) = ws.P.head(r);
+    const SolverReport again = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    if (observe.fn)
+      (*observe.fn)(ProblemView{observe.t, observe.round, W, b, ws.problem, ws.P_start.head(r),
+                                ws.P.head(r), again, observe.halvings, observe.substep, kind});
+    return again;
+  };
   bool plastic = false;
   if (st.active_contacts > 0 && impactGainsEnergy(m, ws)) {
     removeRestitution(ws);
-    rep = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    rep = solveAgain("plastic");
     applyImpulses(ws);
     plastic = st.plastic_fallback = true;
   }
@@ -95,7 +106,7 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
     ws.retry_b.head(r) = b;
     const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     removeRestitution(ws);
-    const SolverReport rep_p = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    const SolverReport rep_p = solveAgain("plastic_retry");
     rep.iterations += rep_p.iterations;
     if (rep_p.converged) {
       rep.residual = rep_p.residual;
@@ -115,7 +126,7 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
     const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     if (!plastic) removeRestitution(ws);
     for (ProblemBlock& pb : ws.problem) pb.mu = 0;
-    const SolverReport rep0 = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    const SolverReport rep0 = solveAgain("frictionless");
     if (ws.P.head(r).allFinite()) {
       rep.iterations += rep0.iterations;
       rep.residual = rep0.residual;

@@ -153,7 +153,9 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
         observer_(ProblemView{state_.t, round, ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem,
                               ws.P_start.head(r), ws.P.head(r), rep, halvings, substep});
       }
-      applyImpactSafeguards(m, ws, options, rep, st, !may_halve);
+      const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
+      applyImpactSafeguards(m, ws, options, rep, st, !may_halve,
+                            ResolveObserver{observe, state_.t, round, halvings, substep});
       iterations += rep.iterations;
       st.iterations = iterations;
       st.residual = rep.residual;

@@ -116,9 +116,16 @@ void applyImpulses(StepWorkspace& ws);
 // solved plastic; and, as the last resort (the step cannot be halved any more), a
 // problem left unsolved is solved plastic, one left far from solved is taken
 // frictionless and plastic, then scaled so it adds no kinetic energy. Each
-// counted in st.
+// counted in st. Each re-solve is shown to observe.fn, if set, as the step's
+// own solve is (ProblemView::resolve says which).
+struct ResolveObserver {
+  const ProblemObserver* fn = nullptr;
+  double t = 0;
+  int round = 0, halvings = 0, substep = 0;
+};
 void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
-                           SolverReport& rep, StepStats& st, bool last_resort);
+                           SolverReport& rep, StepStats& st, bool last_resort,
+                           const ResolveObserver& observe);
 
 // ---- 4d. store (impulse_reports.cpp): the impulses as the next step's warm start
 // (in the State), the efforts of prescribed motions, one report per contact point

@@ -148,12 +148,14 @@ int main(int argc, char** argv) {
   if (!dump_dir.empty()) {
     sim->setProblemObserver([&](const nscd::ProblemView& v) {
       if (dump_every == 0 ? v.report.converged : (k - 1) % dump_every != 0) return;
-      char name[64];
+      char name[96];
+      // A safeguard's re-solve is named after it: stepN_rR_plastic.txt.
+      const std::string tail = v.resolve ? std::string("_") + v.resolve : std::string();
       if (v.halvings == 0)
-        std::snprintf(name, sizeof name, "/step%08ld_r%d.txt", k, v.round);
+        std::snprintf(name, sizeof name, "/step%08ld_r%d%s.txt", k, v.round, tail.c_str());
       else  // a substep of the step taken in halves (Settings::max_step_halvings)
-        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d.txt", k, v.halvings, v.substep,
-                      v.round);
+        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d%s.txt", k, v.halvings, v.substep,
+                      v.round, tail.c_str());
       nscd::writeProblemFile(dump_dir + name, v);
       ++dumped;
     });
