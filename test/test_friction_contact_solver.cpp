@@ -976,6 +976,29 @@ TEST(Newton, LastResortConvergesOnC60HandleStep) {
   EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
 }
 
+// A problem the stress suite left unsolved (case 446: two links, mu 0.99, 5
+// contacts; W of rank 11 on 15 rows; strictly feasible). The short Newton
+// attempts end near 3e-3 with large impulses, where the proximal loop starts.
+// Its inner problems were held to 0.1 x the outer error normalised by
+// |b - shift P_k| instead of |b|: at the start P_k both problems have the same
+// U, so with |P| large each inner problem passed as solved before a single step
+// and the loop ended where it began (2.6e-3 after 1607 iterations).
+TEST(ProximalNewton, InnerProblemsAreHeldToTheOuterScale) {
+  const ProblemFile p =
+      readProblemFile(nscd_test::sourceDir() + "/test/problems/stress_case446_step402.txt");
+  ASSERT_EQ(p.W.rows(), 15);
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-8;
+  o.max_iterations = 200;  // the run's budget
+  VectorXd P = p.P_start;  // the run's warm start
+  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
+  EXPECT_TRUE(r.converged) << r.residual;
+  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
+  for (const ProblemBlock& bl : p.blocks)  // inside the cones
+    EXPECT_LE(P.segment<2>(bl.row + 1).norm(), bl.mu * P(bl.row) * (1 + 1e-9));
+}
+
 // min 1/2 |y - a|^2 over a cone is the projection of a onto it: the
 // second-order cone's in closed form, the half-line's max(0, a), a free row's a.
 TEST(ConeInteriorPoint, ProjectsOntoCones) {

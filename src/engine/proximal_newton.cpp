@@ -70,7 +70,11 @@ bool runProximalNewton(SolveRun& run) {
     }
     const Eigen::Ref<const Eigen::MatrixXd> Wref(Wp);
     const Eigen::Ref<const Eigen::VectorXd> bref(ws.bprox.head(m));
-    inner.tolerance = std::max(1e-16, kInnerTolRatio * run.err);
+    // The inner error is normalised by |b - shift P_k|, not |b|: with large
+    // impulses the same velocity error reads smaller there, and the start P_k
+    // (where both problems have the same U) passed as solved without a step.
+    const double innerScale = std::max(1.0, run.bnorm) / std::max(1.0, ws.bprox.head(m).norm());
+    inner.tolerance = std::max(1e-16, kInnerTolRatio * run.err * innerScale);
     inner.max_iterations = options.max_iterations - used;
     SolveRun in(Wref, bref, run.blocks, inner, P, ws, m);
     setUpRun(in, maxDiag + shift);
