@@ -152,7 +152,8 @@ TEST(StressShort, LateContactsMayCloseTheirGap) {
 // crosses its bearing within one step, so contacts on both sides of it meet in
 // one problem under Newton's law; 939's have no solution (not strictly feasible;
 // neither Siconos's NSGS, NSN-AC nor PROX solves them). In whole steps they leave
-// 16 and 11 steps unsolved; in halves, none, with no energy gain, the same
+// 12 and 2 steps unsolved (16 and 11 before the proximal loop was over-relaxed);
+// in halves, none, with no energy gain, the same
 // penetration bound and (for these) no fallback left.
 TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
   const std::vector<long> cases = {939, 175};
@@ -162,7 +163,7 @@ TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
     const std::string why = reproduce(halved[i].c, 1000);
     ASSERT_EQ(whole[i].m.status, "ok") << why;
     ASSERT_EQ(halved[i].m.status, "ok") << why;
-    EXPECT_GE(whole[i].m.unconverged_steps, 5) << why << ": pick a case whole steps leave unsolved";
+    EXPECT_GE(whole[i].m.unconverged_steps, 2) << why << ": pick a case whole steps leave unsolved";
     EXPECT_EQ(halved[i].m.unconverged_steps, 0) << why;
     EXPECT_GT(halved[i].m.halved_steps, 0) << why;
     EXPECT_LE(halved[i].m.substeps_max, 16) << why;
@@ -508,7 +509,7 @@ TEST(SweepScenes, BadSceneOrActuatorIsRefusedBeforeRunning) {
 // the frictionless one (StepStats::fallback_kinetic_change) and the plastic retry
 // (StepStats::plastic_retry_kinetic_change). They are the last resort, after step
 // halving; without it, case 446 (3D, two links, mu 0.99, e 0.42) takes the first
-// on 8 of its 1000 steps and the second on 58 (if a better solver no longer needs
+// on 5 of its 1000 steps and the second on 68 (if a better solver no longer needs
 // them there, pick a case that still does: nscd_run's summary counts them).
 TEST(StressShort, FallbackEffectIsMeasuredWhereItFires) {
   const StressCase c = makeStressCase(kSeed, 446);
@@ -534,7 +535,7 @@ TEST(StressShort, FallbackEffectIsMeasuredWhereItFires) {
   }
   std::printf("[ figures  ] case 446: %d frictionless fallbacks in 1000 steps, %d changed the kinetic "
               "energy; %d plastic retries, %d changed it\n", fallbacks, nonzero, retries, retry_nonzero);
-  EXPECT_GT(fallbacks, 4);
+  EXPECT_GE(fallbacks, 2);
   EXPECT_GT(nonzero, fallbacks / 2);
   EXPECT_GT(retries, 20);
   EXPECT_GT(retry_nonzero, retries / 2);
@@ -594,6 +595,6 @@ TEST(StressShort, SafeguardSolvesAreShownToTheObserver) {
   std::printf("[ figures  ] case 446: %d plastic retries, %d frictionless fallbacks, %d plastic "
               "impacts shown; %d re-solved\n", retries, fallbacks, plastic, resolved);
   EXPECT_GT(retries, 20);
-  EXPECT_GT(fallbacks, 4);
+  EXPECT_GE(fallbacks, 2);
   EXPECT_EQ(resolved, 20);
 }

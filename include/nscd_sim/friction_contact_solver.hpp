@@ -105,10 +105,10 @@ class FrictionContactSolver {
     Eigen::VectorXd phi, d, Wd, Pt, Ut, phiT, rho;
     std::vector<int> piv;
     std::vector<char> zeroRow;  // W(i, i) negligible: P_i = 0
-    // Proximal Newton: the shifted problem W + sigma D, b - sigma D P_k, and the
-    // outer iterate.
+    // Proximal Newton: the shifted problem W + sigma D, b - sigma D P_k, its
+    // centre P_k, and the outer iterate.
     Eigen::MatrixXd Wprox;
-    Eigen::VectorXd bprox, Pouter;
+    Eigen::VectorXd bprox, Pcentre, Pouter;
     // The cone fixed point's buffers, made when it first runs.
     std::shared_ptr<ConeFixedPointWorkspace> cone;
     // NSGS: the local solver's sticking factor per row (a frictional block's first).

@@ -143,6 +143,7 @@ void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllow
     ws.J.resize(cap, cap);
     ws.Wprox.resize(cap, cap);
     ws.bprox.resize(cap);
+    ws.Pcentre.resize(cap);
     ws.Pouter.resize(3 * cap);
   }
 }
