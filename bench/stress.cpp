@@ -223,6 +223,7 @@ int main(int argc, char** argv) {
   long retries = 0;                     // steps taken plastic after Newton's law was unsolved
   double rt_gain = 0, rt_loss = 0;      // and their largest relative kinetic-energy change
   long halved = 0;                      // steps taken again in halves (max_step_halvings)
+  long longer = 0;                      // steps whose last solve took 10 times the budget
   int substeps_max = 1;                 // the most substeps one step took
   double pen_max = 0, viol_max = 0, gain_max = -1e300, unconv_res = 0;
   long worst_pen = -1, worst_gain = -1, first_failed = -1;
@@ -242,6 +243,7 @@ int main(int argc, char** argv) {
     unconv_steps += r.m.unconverged_steps;
     unconv_res = std::max(unconv_res, r.m.unconverged_residual_max);
     retries += r.m.plastic_retries;
+    longer += r.m.longer_solves;
     halved += r.m.halved_steps;
     substeps_max = std::max(substeps_max, r.m.substeps_max);
     rt_gain = std::max(rt_gain, r.m.retry_gain_max);
@@ -257,12 +259,12 @@ int main(int argc, char** argv) {
       "\"pen_rel_over_1pct\":%ld,\"violation_rel_max\":%.4g,\"energy_gain_rel_max\":%.4g,"
       "\"worst_gain_case\":%ld,\"energy_gain_over_tol\":%ld,\"energy_tol_rel\":%.1g,"
       "\"unconverged_runs\":%ld,\"unconverged_steps\":%ld,\"unconverged_residual_max\":%.4g,"
-      "\"halved_steps\":%ld,\"substeps_max\":%d,"
+      "\"halved_steps\":%ld,\"substeps_max\":%d,\"longer_solve_steps\":%ld,"
       "\"plastic_retry_steps\":%ld,\"retry_kinetic_gain_max\":%.3g,\"retry_kinetic_loss_max\":%.3g,"
       "\"frictionless_fallback_steps\":%ld,\"fallback_kinetic_gain_max\":%.3g,"
       "\"fallback_kinetic_loss_max\":%.3g,\"energy_capped_steps\":%ld}\n",
       runs, seed, steps, total_steps, wall, failed, first_failed, pen_max, worst_pen, pen_bad,
       viol_max, gain_max, worst_gain, gain_bad, kEnergyGainRel, unconv_runs, unconv_steps, unconv_res,
-      halved, substeps_max, retries, rt_gain, rt_loss, frictionless, fb_gain, fb_loss, capped);
+      halved, substeps_max, longer, retries, rt_gain, rt_loss, frictionless, fb_gain, fb_loss, capped);
   return failed == 0 && pen_bad == 0 && gain_bad == 0 ? 0 : 1;
 }

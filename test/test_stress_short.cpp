@@ -545,7 +545,9 @@ TEST(StressShort, FallbackEffectIsMeasuredWhereItFires) {
 // observer as the step's own solve is (ProblemView::resolve; nscd_run
 // --dump-problems names its file after it), so the problems behind the
 // fallbacks can be dumped and studied: on case 446 with halving off, a step
-// shows a converged "plastic_retry" view if and only if it took a plastic retry,
+// that kept a longer solve's answer shows a "longer" view (and one that shows a
+// converged one kept it); it shows a converged "plastic_retry" view if and only
+// if it took a plastic retry,
 // a "frictionless" view iff it took the frictionless fallback, a "plastic" view
 // iff it took an impact plastic; and solving a view's problem again from its warm start
 // gives the answer it showed, bit for bit.
@@ -567,20 +569,23 @@ TEST(StressShort, SafeguardSolvesAreShownToTheObserver) {
   nscd::SolverOptions o;
   o.tolerance = sim.model().settings.tolerance;
   o.max_iterations = sim.model().settings.max_iterations;
-  int retries = 0, fallbacks = 0, plastic = 0, resolved = 0;
+  int retries = 0, fallbacks = 0, plastic = 0, longer = 0, longer_converged = 0, resolved = 0;
   for (int k = 0; k < 1000; ++k) {
     seen.clear();
     ASSERT_NE(sim.step(), nscd::StepStatus::NonFinite) << reproduce(c, 1000);
     const nscd::StepStats& s = sim.stats();
-    int n_retry = 0, n_frictionless = 0, n_plastic = 0;
+    int n_retry = 0, n_frictionless = 0, n_plastic = 0, n_longer = 0, n_longer_converged = 0;
     for (const Seen& v : seen) {
       if (v.kind == "plastic_retry") n_retry += v.converged;  // a failed retry is shown, not taken
       else if (v.kind == "frictionless") ++n_frictionless;
       else if (v.kind == "plastic") ++n_plastic;
+      else if (v.kind == "longer") ++n_longer, n_longer_converged += v.converged;
       else ADD_FAILURE() << "step " << k << ": unknown re-solve " << v.kind;
       if (resolved >= 20) continue;
+      nscd::SolverOptions with = o;
+      if (v.kind == "longer") with.max_iterations *= 10;
       Eigen::VectorXd P = v.P_start;
-      solver.solve(v.W, v.b, v.blocks, o, P);
+      solver.solve(v.W, v.b, v.blocks, with, P);
       EXPECT_EQ((P - v.P).cwiseAbs().maxCoeff(), 0.0) << "step " << k << " " << v.kind;
       ++resolved;
     }
@@ -588,12 +593,19 @@ TEST(StressShort, SafeguardSolvesAreShownToTheObserver) {
     EXPECT_EQ(n_retry > 0, s.plastic_retry) << "step " << k;
     EXPECT_EQ(n_frictionless > 0, s.frictionless_fallback) << "step " << k;
     EXPECT_EQ(n_plastic > 0, s.plastic_fallback) << "step " << k;
+    // The longer solve's answer is kept if it converged (or is merely closer).
+    if (s.longer_solve) EXPECT_GT(n_longer, 0) << "step " << k;
+    if (n_longer_converged > 0) EXPECT_TRUE(s.longer_solve) << "step " << k;
+    longer += s.longer_solve;
+    longer_converged += n_longer_converged > 0;
     retries += s.plastic_retry;
     fallbacks += s.frictionless_fallback;
     plastic += s.plastic_fallback;
   }
-  std::printf("[ figures  ] case 446: %d plastic retries, %d frictionless fallbacks, %d plastic "
-              "impacts shown; %d re-solved\n", retries, fallbacks, plastic, resolved);
+  std::printf("[ figures  ] case 446: %d longer solves kept (%d converged), %d plastic retries, "
+              "%d frictionless fallbacks, %d plastic impacts shown; %d re-solved\n", longer,
+              longer_converged, retries, fallbacks, plastic, resolved);
+  EXPECT_GT(longer_converged, 0);  // 10 times the budget solves some the run's budget left
   EXPECT_GT(retries, 20);
   EXPECT_GE(fallbacks, 2);
   EXPECT_EQ(resolved, 20);

@@ -75,6 +75,10 @@ struct StepStats {
   // kinetic energy of v_free.
   bool plastic_retry = false;
   double plastic_retry_kinetic_change = 0;
+  // Left unsolved at the smallest step, the problem was solved again from its
+  // answer with 10 times the budget before any of the fallbacks below, and that
+  // answer kept (converged, or closer): the physics unchanged.
+  bool longer_solve = false;
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
   // Its effect on the step: the kinetic energy after the fallback minus that of the
   // unsolved answer it replaced, relative to the kinetic energy of v_free (0 if none).
@@ -123,7 +127,8 @@ struct ProblemView {
   int substep = 0;
   // Null for the step's own solve; for a safeguard's solve of the step's problem
   // again (impact_safeguards.cpp): "plastic" (an impact that would add energy),
-  // "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
+  // "longer" (left unsolved at the smallest step, solved again with 10 times the
+  // budget), "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
   const char* resolve = nullptr;
 };
 using ProblemObserver = std::function<void(const ProblemView&)>;

@@ -3,6 +3,8 @@
 //   energy (it is only proven dissipative for one point), and with theta = 1/2
 //   the impulses can do positive work over the step: the impact is then taken
 //   plastic (e = 0).
+// - A problem left unsolved at the smallest step is solved again from its answer
+//   with 10 times the budget (StepStats::longer_solve): the physics unchanged.
 // - A problem with restitution left unsolved: Newton's law at coupled points may
 //   have no solution (a link bounced off one contact into another within the
 //   step, which no velocity can meet) where the plastic law has one. The problem
@@ -15,9 +17,10 @@
 //   (An exact answer with e = 0 never adds energy through its contacts; an
 //   unsolved one did, 0.6 J per step, in a C-60 trip at half the axial play.)
 // - Still far from solved: the impulses are scaled so they add no kinetic energy.
-// The last three change the physics, so they are the last resort: while the step
-// can still be halved (Settings::max_step_halvings) an unsolved problem is left
-// as it is, and the step is taken again as two of h/2 (step_halving.cpp).
+// These last four run only at the smallest step, and the last three change the
+// physics: while the step can still be halved (Settings::max_step_halvings) an
+// unsolved problem is left as it is, and the step is taken again as two of h/2
+// (step_halving.cpp).
 #include <algorithm>
 #include <cmath>
 
@@ -26,6 +29,8 @@
 namespace nscd {
 namespace {
 
+// The budget of the last solve before the fallbacks, in multiples of the run's.
+constexpr int kLongerBudget = 10;
 // Residual above which an unconverged frictional answer is replaced.
 constexpr double kFrictionlessFallbackResidual = 1e-3;
 // Kinetic energy (relative to K(v_free)) an unsolved answer may add through its
@@ -85,9 +90,9 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
   const auto b = ws.b.head(r);
   // The step's problem as it now stands (b and mu as the safeguard set them),
   // solved again from the current answer.
-  const auto solveAgain = [&](const char* kind) {
+  const auto solveAgain = [&](const char* kind, const SolverOptions& with) {
     if (observe.fn) ws.P_start.head(r) = ws.P.head(r);
-    const SolverReport again = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
+    const SolverReport again = ws.solver.solve(W, b, ws.problem, with, ws.P.head(r));
     if (observe.fn)
       (*observe.fn)(ProblemView{observe.t, observe.round, W, b, ws.problem, ws.P_start.head(r),
                                 ws.P.head(r), again, observe.halvings, observe.substep, kind});
@@ -96,17 +101,37 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
   bool plastic = false;
   if (st.active_contacts > 0 && impactGainsEnergy(m, ws)) {
     removeRestitution(ws);
-    rep = solveAgain("plastic");
+    rep = solveAgain("plastic", options);
     applyImpulses(ws);
     plastic = st.plastic_fallback = true;
   }
   if (!last_resort) return;
+  // Before anything that changes the physics, the same problem again from the
+  // answer so far, with kLongerBudget times the budget: the few strictly
+  // feasible problems the smallest step still leaves (jammed sets with impulses
+  // 100 times the usual) need 1 000 to 1 500 Newton iterations. The better of
+  // the two answers stays.
+  if (!rep.converged && st.active_contacts > 0) {
+    ws.retry_P.head(r) = ws.P.head(r);
+    SolverOptions longer = options;
+    longer.max_iterations = options.max_iterations * kLongerBudget;
+    const SolverReport rep_l = solveAgain("longer", longer);
+    rep.iterations += rep_l.iterations;
+    if (rep_l.converged || rep_l.residual < rep.residual) {
+      rep.residual = rep_l.residual;
+      rep.converged = rep_l.converged;
+      applyImpulses(ws);
+      st.longer_solve = true;
+    } else {
+      ws.P.head(r) = ws.retry_P.head(r);
+    }
+  }
   if (!rep.converged && !plastic && st.active_contacts > 0 && anyRestitution(ws)) {
     ws.retry_P.head(r) = ws.P.head(r);
     ws.retry_b.head(r) = b;
     const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     removeRestitution(ws);
-    const SolverReport rep_p = solveAgain("plastic_retry");
+    const SolverReport rep_p = solveAgain("plastic_retry", options);
     rep.iterations += rep_p.iterations;
     if (rep_p.converged) {
       rep.residual = rep_p.residual;
@@ -126,7 +151,7 @@ void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOption
     const double k_unsolved = kineticEnergyOf(m, ws.vnew);
     if (!plastic) removeRestitution(ws);
     for (ProblemBlock& pb : ws.problem) pb.mu = 0;
-    const SolverReport rep0 = solveAgain("frictionless");
+    const SolverReport rep0 = solveAgain("frictionless", options);
     if (ws.P.head(r).allFinite()) {
       rep.iterations += rep0.iterations;
       rep.residual = rep0.residual;

@@ -43,6 +43,7 @@ void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepSta
   total.plastic_fallback = total.plastic_fallback || sub.plastic_fallback;
   total.late_contacts += sub.late_contacts;
   total.plastic_retry = total.plastic_retry || sub.plastic_retry;
+  total.longer_solve = total.longer_solve || sub.longer_solve;
   total.plastic_retry_kinetic_change =
       largerChange(total.plastic_retry_kinetic_change, sub.plastic_retry_kinetic_change);
   total.frictionless_fallback = total.frictionless_fallback || sub.frictionless_fallback;

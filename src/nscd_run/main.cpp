@@ -167,6 +167,7 @@ int main(int argc, char** argv) {
   ProgressBar progress(!quiet && isatty(2), steps * h);
   long iters_sum = 0;
   int iters_max = 0, unconverged = 0, plastic_retries = 0, frictionless_fallbacks = 0, energy_capped = 0;
+  int longer_solves = 0;
   int halved = 0, substeps_max = 1;
   double residual_max = 0, max_pen = 0;
   const auto t0 = std::chrono::steady_clock::now();
@@ -184,6 +185,7 @@ int main(int argc, char** argv) {
     max_pen = std::max(max_pen, s.max_penetration);
     if (st == nscd::StepStatus::NotConverged) ++unconverged;
     plastic_retries += s.plastic_retry;
+    longer_solves += s.longer_solve;
     halved += s.substeps > 1;
     substeps_max = std::max(substeps_max, s.substeps);
     frictionless_fallbacks += s.frictionless_fallback;
@@ -211,6 +213,7 @@ int main(int argc, char** argv) {
   summary.residual_max = residual_max;
   summary.unconverged_steps = unconverged;
   summary.plastic_retries = plastic_retries;
+  summary.longer_solves = longer_solves;
   summary.halved_steps = halved;
   summary.substeps_max = substeps_max;
   summary.frictionless_fallbacks = frictionless_fallbacks;

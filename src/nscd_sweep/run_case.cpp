@@ -45,6 +45,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       r.iters_max = std::max(r.iters_max, s.iterations);
       if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
       r.plastic_retries += s.plastic_retry;
+      r.longer_solves += s.longer_solve;
       r.halved_steps += s.substeps > 1;
       r.substeps_max = std::max(r.substeps_max, s.substeps);
       if (s.plastic_retry && std::isfinite(s.plastic_retry_kinetic_change)) {
@@ -94,6 +95,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       js.residual_max = r.residual_max;
       js.unconverged_steps = r.unconverged_steps;
       js.plastic_retries = r.plastic_retries;
+      js.longer_solves = r.longer_solves;
       js.halved_steps = r.halved_steps;
       js.substeps_max = r.substeps_max;
       js.frictionless_fallbacks = r.frictionless_fallbacks;

@@ -47,6 +47,7 @@ struct CaseMetrics {
   double kinetic_peak = 0;     // max over steps of the kinetic energy, J
   // Kept for the JSON summary (CaseOptions::summary_json), not in the CSV row.
   long plastic_retries = 0;
+  long longer_solves = 0;  // StepStats::longer_solve
   long halved_steps = 0;  // steps taken again in halves (Settings::max_step_halvings)
   int substeps_max = 1;   // the most substeps one step took
   long frictionless_fallbacks = 0;

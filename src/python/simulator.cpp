@@ -338,6 +338,7 @@ class PySimulator {
     d["plastic_fallback"] = s.plastic_fallback;
     d["late_contacts"] = s.late_contacts;
     d["plastic_retry"] = s.plastic_retry;
+    d["longer_solve"] = s.longer_solve;
     d["substeps"] = s.substeps;
     d["halvings"] = s.halvings;
     d["frictionless_fallback"] = s.frictionless_fallback;

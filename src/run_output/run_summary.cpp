@@ -26,6 +26,7 @@ std::string runSummaryJson(const RunSummary& r) {
          ",\"unconverged_steps\":" + std::to_string(r.unconverged_steps) +
          ",\"halved_steps\":" + std::to_string(r.halved_steps) +
          ",\"substeps_max\":" + std::to_string(r.substeps_max) +
+         ",\"longer_solves\":" + std::to_string(r.longer_solves) +
          ",\"plastic_retries\":" + std::to_string(r.plastic_retries) +
          ",\"frictionless_fallbacks\":" + std::to_string(r.frictionless_fallbacks) +
          ",\"energy_capped_steps\":" + std::to_string(r.energy_capped_steps) +

@@ -16,6 +16,7 @@ struct RunSummary {
   long unconverged_steps = 0;
   long halved_steps = 0;  // steps taken again in halves (Settings::max_step_halvings)
   int substeps_max = 1;   // the most substeps one step took
+  long longer_solves = 0;  // steps whose last solve took 10 times the budget (StepStats::longer_solve)
   long plastic_retries = 0;
   long frictionless_fallbacks = 0;
   long energy_capped_steps = 0;
