@@ -956,6 +956,29 @@ TEST(ProximalNewton, JammedChainSticksAtBothJoints) {
   EXPECT_GT(s.solve(W, b, blocks, o, Pn).residual, 1e-4);
 }
 
+namespace {
+
+// A problem stored in test/problems/ (written by nscd_run --dump-problems or
+// nscd_fclib --to-nscd), solved to 1e-8 with the given budget, from the run's
+// warm start or (cold) from P = 0.
+struct StoredSolve {
+  ProblemFile p;
+  VectorXd P;
+  SolverReport r;
+};
+StoredSolve solveStored(const std::string& name, int max_iterations, bool cold) {
+  StoredSolve out{readProblemFile(nscd_test::sourceDir() + "/test/problems/" + name), {}, {}};
+  FrictionContactSolver s;
+  SolverOptions o;
+  o.tolerance = 1e-8;
+  o.max_iterations = max_iterations;
+  out.P = cold ? VectorXd::Zero(out.p.b.size()) : out.p.P_start;
+  out.r = s.solve(out.p.W, out.p.b, out.p.blocks, o, out.P);
+  return out;
+}
+
+}  // namespace
+
 // A C-60 handle step (docs/fclib.md: the FCLib form, the probe's bilateral rows
 // condensed out; written by `nscd_fclib --to-nscd`), 20 contacts on a
 // hyperstatic set, solved cold with the FCLib harness's budget. Every stage
@@ -963,17 +986,10 @@ TEST(ProximalNewton, JammedChainSticksAtBothJoints) {
 // Newton, with the regularisation floor of 1e-10 of diag(W) the short
 // attempts use, cycles and ends at 1.06e-7.
 TEST(Newton, LastResortConvergesOnC60HandleStep) {
-  const ProblemFile p =
-      readProblemFile(nscd_test::sourceDir() + "/test/problems/c60_handle_dt1e-5_step638.txt");
-  ASSERT_EQ(p.W.rows(), 60);
-  FrictionContactSolver s;
-  SolverOptions o;
-  o.tolerance = 1e-8;
-  o.max_iterations = 10000;
-  VectorXd P = VectorXd::Zero(p.b.size());
-  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
-  EXPECT_TRUE(r.converged) << r.residual;
-  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
+  const StoredSolve x = solveStored("c60_handle_dt1e-5_step638.txt", 10000, true);
+  ASSERT_EQ(x.p.W.rows(), 60);
+  EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
 }
 
 // A problem the stress suite left unsolved (case 446: two links, mu 0.99, 5
@@ -984,21 +1000,14 @@ TEST(Newton, LastResortConvergesOnC60HandleStep) {
 // U, so with |P| large each inner problem passed as solved before a single step
 // and the loop ended where it began (2.6e-3 after 1607 iterations).
 TEST(ProximalNewton, InnerProblemsAreHeldToTheOuterScale) {
-  const ProblemFile p =
-      readProblemFile(nscd_test::sourceDir() + "/test/problems/stress_case446_step402.txt");
-  ASSERT_EQ(p.W.rows(), 15);
-  FrictionContactSolver s;
-  SolverOptions o;
-  o.tolerance = 1e-8;
-  o.max_iterations = 200;  // the run's budget
-  VectorXd P = p.P_start;  // the run's warm start
-  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
-  EXPECT_TRUE(r.converged) << r.residual;
-  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
+  const StoredSolve x = solveStored("stress_case446_step402.txt", 200, false);  // the run's budget and warm start
+  ASSERT_EQ(x.p.W.rows(), 15);
+  EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
   // Inside the cones, to the tolerance (the error bounds the distance from them,
   // in units of max(1, |b|)).
-  for (const ProblemBlock& bl : p.blocks)
-    EXPECT_LE(P.segment<2>(bl.row + 1).norm() - bl.mu * P(bl.row), 1e-8 * std::max(1.0, p.b.norm()));
+  for (const ProblemBlock& bl : x.p.blocks)
+    EXPECT_LE(x.P.segment<2>(bl.row + 1).norm() - bl.mu * x.P(bl.row), 1e-8 * std::max(1.0, x.p.b.norm()));
 }
 
 // min 1/2 |y - a|^2 over a cone is the projection of a onto it: the
@@ -1078,19 +1087,11 @@ TEST(ConeInteriorPoint, UnboundedOptimalSetGivesTheLeastSqueeze) {
 // (with 2000 the proximal one gets there); the cone fixed point's answer hands
 // the Newton a start it converges from.
 TEST(ConeFixedPoint, SolvesAStressProblemTheNewtonStagesFail) {
-  const ProblemFile p =
-      readProblemFile(nscd_test::sourceDir() + "/test/problems/stress_case384_step186.txt");
-  ASSERT_EQ(p.W.rows(), 15);
-  ASSERT_FALSE(p.P_start.size() == 0);
-  FrictionContactSolver s;
-  SolverOptions o;
-  o.tolerance = 1e-8;
-  o.max_iterations = 1000;
-  VectorXd P = p.P_start;  // the run's warm start
-  const SolverReport r = s.solve(p.W, p.b, p.blocks, o, P);
-  EXPECT_TRUE(r.converged) << r.residual;
-  EXPECT_GT(r.interior_point_iterations, 0);
-  EXPECT_LE(solverError(p.W, p.b, P, p.blocks), 1e-8);
-  for (const ProblemBlock& bl : p.blocks)  // inside the cones, to round-off
-    EXPECT_LE(P.segment<2>(bl.row + 1).norm(), bl.mu * P(bl.row) * (1 + 1e-9) + 1e-15 * P.norm());
+  const StoredSolve x = solveStored("stress_case384_step186.txt", 1000, false);  // the run's warm start
+  ASSERT_EQ(x.p.W.rows(), 15);
+  EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_GT(x.r.interior_point_iterations, 0);
+  EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
+  for (const ProblemBlock& bl : x.p.blocks)  // inside the cones, to round-off
+    EXPECT_LE(x.P.segment<2>(bl.row + 1).norm(), bl.mu * x.P(bl.row) * (1 + 1e-9) + 1e-15 * x.P.norm());
 }
