@@ -39,7 +39,6 @@
 namespace nscd {
 namespace {
 
-constexpr int kMaxOuter = 100000;         // in effect, the budget (each costs a Newton iteration)
 constexpr double kRelaxation = 1.3;       // the next centre: P_k + this x (P - P_k)
 constexpr double kSigmaPerError = 0.05;
 constexpr double kSigmaGrowth = 10;       // after a failed inner solve
@@ -73,7 +72,7 @@ bool runProximalNewton(SolveRun& run) {
   ws.Pbest.head(m) = P.head(m);
   bool converged = false;
   int used = 0;  // this loop's Newton iterations
-  for (int outer = 0; outer < kMaxOuter && used < options.max_iterations; ++outer) {
+  while (used < options.max_iterations) {  // each outer step costs at least one
     ws.Pcentre.head(m) = P.head(m);
     const double shift = sigma * d;
     auto Wp = ws.Wprox.topLeftCorner(m, m);

@@ -150,12 +150,13 @@ int main(int argc, char** argv) {
       if (dump_every == 0 ? v.report.converged : (k - 1) % dump_every != 0) return;
       char name[96];
       // A safeguard's re-solve is named after it: stepN_rR_plastic.txt.
-      const std::string tail = v.resolve ? std::string("_") + v.resolve : std::string();
+      const char* sep = v.resolve ? "_" : "";
+      const char* kind = v.resolve ? v.resolve : "";
       if (v.halvings == 0)
-        std::snprintf(name, sizeof name, "/step%08ld_r%d%s.txt", k, v.round, tail.c_str());
+        std::snprintf(name, sizeof name, "/step%08ld_r%d%s%s.txt", k, v.round, sep, kind);
       else  // a substep of the step taken in halves (Settings::max_step_halvings)
-        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d%s.txt", k, v.halvings, v.substep,
-                      v.round, tail.c_str());
+        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d%s%s.txt", k, v.halvings, v.substep,
+                      v.round, sep, kind);
       nscd::writeProblemFile(dump_dir + name, v);
       ++dumped;
     });
