@@ -15,7 +15,7 @@ start=$(date +%s.%N)
 "$NSCD_RUN" "$scene" --duration 0.054 --command "$table" --csv "$C60_OUT/$tag.csv" --every 5 --quiet "$@" \
   > "$C60_OUT/$tag.run.json"
 wall=$(echo "$(date +%s.%N) - $start" | bc)
-$PY "$C60_REPO/scripts/c60_plot.py" bench "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json" > /dev/null
+$PY "$C60_REPO/scripts/analysis/c60_plot.py" bench "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json" > /dev/null
 $PY - "$C60_OUT/$tag.json" "$C60_OUT/$tag.run.json" "$wall" <<'PYEOF'
 import json, sys
 r = json.load(open(sys.argv[1])); run = json.loads(open(sys.argv[2]).read().strip().splitlines()[-1])

@@ -62,5 +62,5 @@ for p in "$out"/problems/*.hdf5; do
     rm -f "$out/one.csv"
   fi
 done
-/usr/bin/python3 "$repo/scripts/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
+/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
 echo "written: $out/fclib.csv $out/fclib.md"

@@ -13,4 +13,4 @@ png=${C60_PNG-$C60_DOCS/c60_handle.png}
 cmd="handle=0:0,0.004:0,0.014:1.2,0.020:1.2,0.030:0,0.040:0"
 "$NSCD_RUN" "$scene" --duration 0.040 --command "$cmd" --csv "$C60_OUT/$tag.csv" --every 5 --quiet "$@" \
   | tee "$C60_OUT/$tag.run.json"
-$PY "$C60_REPO/scripts/c60_plot.py" handle "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json"
+$PY "$C60_REPO/scripts/analysis/c60_plot.py" handle "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json"

@@ -8,4 +8,4 @@ scene=${1:-$C60_REPO/urdf/c60.urdf}
 shift || true
 tag=${C60_TAG:-c60_rest}
 "$NSCD_RUN" "$scene" --duration 0.1 --csv "$C60_OUT/$tag.csv" --every 10 --quiet "$@" | tee "$C60_OUT/$tag.run.json"
-$PY "$C60_REPO/scripts/c60_plot.py" rest "$C60_OUT/$tag.csv" --json "$C60_OUT/$tag.json"
+$PY "$C60_REPO/scripts/analysis/c60_plot.py" rest "$C60_OUT/$tag.csv" --json "$C60_OUT/$tag.json"

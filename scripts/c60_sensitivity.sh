@@ -8,8 +8,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/c60_env.sh"
 cases=${C60_CASES:-"c0:0:1 c02:0.2:1 c05:0.5:1 c1:1:1 c2:2:1 f05:1:0.5 f15:1:1.5"}
 run_case() {
   local name=$1 cs=$2 fs=$3
-  $PY "$C60_REPO/scripts/c60_scene.py" --out "$C60_OUT/c60_sens_$name.urdf" --clearance-scale $cs --friction-scale $fs
-  $PY "$C60_REPO/scripts/c60_scene.py" --out "$C60_OUT/c60_sens_${name}_bench.urdf" --bench --clearance-scale $cs --friction-scale $fs
+  $PY "$C60_REPO/scripts/c60_model/c60_scene.py" --out "$C60_OUT/c60_sens_$name.urdf" --clearance-scale $cs --friction-scale $fs
+  $PY "$C60_REPO/scripts/c60_model/c60_scene.py" --out "$C60_OUT/c60_sens_${name}_bench.urdf" --bench --clearance-scale $cs --friction-scale $fs
   C60_TAG=sens_${name}_trip C60_PNG= bash "$C60_REPO/scripts/c60_trip.sh" "$C60_OUT/c60_sens_$name.urdf" > /dev/null
   C60_TAG=sens_${name}_bench C60_PNG= bash "$C60_REPO/scripts/c60_bench.sh" "$C60_OUT/c60_sens_${name}_bench.urdf" > /dev/null
   echo "done $name"
@@ -21,4 +21,4 @@ for c in $cases; do
   while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do sleep 1; done
 done
 wait
-$PY "$C60_REPO/scripts/c60_sensitivity.py" "$C60_OUT" "$C60_DOCS/c60_sensitivity.md"
+$PY "$C60_REPO/scripts/analysis/c60_sensitivity.py" "$C60_OUT" "$C60_DOCS/c60_sensitivity.md"

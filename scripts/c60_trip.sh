@@ -9,4 +9,4 @@ tag=${C60_TAG:-c60_trip}
 png=${C60_PNG-$C60_DOCS/c60_trip.png}
 "$NSCD_RUN" "$scene" --duration 0.0207 --command "$C60_PROBE" --csv "$C60_OUT/$tag.csv" --every 2 --quiet "$@" \
   | tee "$C60_OUT/$tag.run.json"
-$PY "$C60_REPO/scripts/c60_plot.py" trip "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json"
+$PY "$C60_REPO/scripts/analysis/c60_plot.py" trip "$C60_OUT/$tag.csv" $png --json "$C60_OUT/$tag.json"

@@ -16,5 +16,5 @@ for m in c60 c60_authors; do
 done
 fig=()
 [ -n "${C60_FIGURE:-}" ] && fig=(--figure "$C60_FIGURE")
-$PY "$C60_REPO/scripts/c60_trip_compare.py" "$outdir" "main=$outdir/c60_trip_compare.csv" \
+$PY "$C60_REPO/scripts/analysis/c60_trip_compare.py" "$outdir" "main=$outdir/c60_trip_compare.csv" \
   "authors=$outdir/c60_authors_trip_compare.csv" --json "$outdir/c60_trip_compare.json" "${fig[@]}"

@@ -3,7 +3,7 @@
 # solvers, at tolerances 1e-4, 1e-8, 1e-10 (Siconos's error measure).
 #   scripts/fclib_compare.sh [OUT_DIR] [--regenerate] [extra nscd_fclib options]
 # Problems: tools/fclib/problems/*.hdf5 (committed); with --regenerate they are
-# dumped again from the Siconos scenes of scripts/fclib_generate.py (needs
+# dumped again from the Siconos scenes of scripts/analysis/fclib_generate.py (needs
 # python3-siconos) into OUT_DIR/problems and converted with nscd_fclib --convert.
 # Writes OUT_DIR/fclib.csv and OUT_DIR/fclib.md; default OUT_DIR: build/fclib_compare.
 set -euo pipefail
@@ -22,15 +22,15 @@ problems=("$repo"/tools/fclib/problems/*.hdf5)
 if [ "${1:-}" = "--regenerate" ]; then
   shift
   rm -rf "$out/problems"
-  /usr/bin/python3 "$repo/scripts/fclib_generate.py" "$out/problems" 2>&1 | grep -v 'memory leak' || true
+  /usr/bin/python3 "$repo/scripts/analysis/fclib_generate.py" "$out/problems" 2>&1 | grep -v 'memory leak' || true
   for f in "$out"/problems/*.dat; do
     name=$(basename "$f" .dat)
     "$exe" --convert "$f" "$out/problems/$name.hdf5" --title "$name" \
-      --description "scripts/fclib_generate.py (python3-siconos)" > /dev/null
+      --description "scripts/analysis/fclib_generate.py (python3-siconos)" > /dev/null
   done
   problems=("$out"/problems/*.hdf5)
 fi
 # Siconos's Newton solvers report failed LU factorisations on stderr: keep them apart.
 "$exe" --csv "$out/fclib.csv" "$@" "${problems[@]}" 2> "$out/siconos_stderr.log" | tee "$out/fclib.txt" || true
-/usr/bin/python3 "$repo/scripts/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
+/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
 echo "written: $out/fclib.csv $out/fclib.md"

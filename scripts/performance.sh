@@ -53,7 +53,7 @@ for f in "$OUT/work_precision_c60.csv" "$OUT/work_precision_c60_bench.csv"; do
   if [ -f "$f" ]; then tail -n +2 "$f" >> "$OUT/work_precision.csv"; fi  # one CSV for the plots
 done
 fi
-$py "$repo/scripts/work_precision.py" "$OUT/work_precision.csv" --png "$repo/docs/work_precision.png" \
+$py "$repo/scripts/analysis/work_precision.py" "$OUT/work_precision.csv" --png "$repo/docs/work_precision.png" \
   --order-png "$repo/docs/work_precision_h.png" --table "$OUT/work_precision.md"
 
 if ! skip stress; then
@@ -89,5 +89,5 @@ echo "{\"runs\":$(($(wc -l < "$OUT/sweep_whole.csv") - 1)),\"wall_1core_ms\":$((
 fi
 
 echo "== report"
-$py "$repo/scripts/performance_report.py" --out "$OUT" --docs "$repo/docs" --elapsed $(( $(date +%s) - start ))
+$py "$repo/scripts/analysis/performance_report.py" --out "$OUT" --docs "$repo/docs" --elapsed $(( $(date +%s) - start ))
 echo "wrote $repo/docs/performance.md"

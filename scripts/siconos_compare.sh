@@ -19,5 +19,5 @@ if [ ! -x "$exe" ]; then
 fi
 mkdir -p "$out"
 "$exe" --out "$out" "$@"
-/usr/bin/python3 "$repo/scripts/siconos_compare.py" "$out"
+/usr/bin/python3 "$repo/scripts/analysis/siconos_compare.py" "$out"
 echo "written: $out/summary.md $out/work_precision.png"

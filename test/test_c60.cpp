@@ -118,7 +118,7 @@ double groupGap(const Csv& c, size_t row, const std::string& group) {
 
 // The scene's contacts at the published ON pose (the first CSV row, before any step) have
 // the CAD's gaps (shared/c60/cad/contacts_cad.csv, gap_on_mm = CAD distance - offset; the
-// generator reads scripts/c60_cad_contacts.json, a copy). Within 0.1 um: the tables give 4
+// generator reads scripts/c60_model/c60_cad_contacts.json, a copy). Within 0.1 um: the tables give 4
 // decimals; C6_3/C6_4 within 0.5 um (their MC face's normal, rounded to 1e-4, sits 1 mm
 // from the arcs). The pairs whose CAD distance is measured to a face's edge have no point.
 TEST(C60, ContactGapsAtOnAreTheCads) {

@@ -82,7 +82,7 @@ TEST(Docs, SceneFormatNamesEveryElementAndAttribute) {
 }
 
 // docs/performance.md is written by scripts/performance.sh from
-// scripts/performance_template.md: everything but the generated parts (@NAME@ in
+// scripts/templates/performance_template.md: everything but the generated parts (@NAME@ in
 // the template) must be the template's text, in its order. A hand-written section
 // edited into the page only would be lost at the next regeneration.
 TEST(Docs, PerformancePageMatchesItsTemplate) {
@@ -92,7 +92,7 @@ TEST(Docs, PerformancePageMatchesItsTemplate) {
     s << f.rdbuf();
     return s.str();
   };
-  const std::string page = read("docs/performance.md"), tmpl = read("scripts/performance_template.md");
+  const std::string page = read("docs/performance.md"), tmpl = read("scripts/templates/performance_template.md");
   ASSERT_FALSE(page.empty());
   ASSERT_FALSE(tmpl.empty());
   const std::regex placeholder("@[A-Z_]+@");

@@ -14,7 +14,7 @@
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/problem_file.hpp"
 #include "test_support.hpp"
-#include "cone_interior_point.hpp"
+#include "solver/cone_interior_point.hpp"
 
 using Eigen::Matrix3d;
 using Eigen::MatrixXd;

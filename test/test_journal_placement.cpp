@@ -13,7 +13,7 @@
 
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
-#include "step_stages.hpp"
+#include "step/step_stages.hpp"
 #include "test_support.hpp"
 
 using namespace nscd;

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "../src/engine/least_distance.hpp"
+#include "../src/engine/geometry/least_distance.hpp"
 
 using nscd::leastDistance;
 using nscd::nonNegativeLeastSquares;

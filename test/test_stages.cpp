@@ -1,4 +1,4 @@
-// One test per stage of the time step (src/engine/step_stages.hpp), each on a case
+// One test per stage of the time step (src/engine/step/step_stages.hpp), each on a case
 // with a known answer: forces and their derivatives, joint rows, the Delassus
 // operator, the projection, the time integration, command schedules.
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
-#include "step_stages.hpp"
+#include "step/step_stages.hpp"
 
 using namespace nscd;
 

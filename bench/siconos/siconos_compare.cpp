@@ -2,7 +2,7 @@
 // in one process, over a ladder of time steps and both schemes, and writes
 //   OUT/runs.csv     one row per run: wall time of the stepping loop, steps, ...
 //   OUT/samples.csv  the sampled trajectories (for errors and agreement)
-// scripts/siconos_compare.py turns them into errors, ratios and tables.
+// scripts/analysis/siconos_compare.py turns them into errors, ratios and tables.
 //
 // usage: nscd_siconos_compare [--out DIR] [--quick] [--scene ball|pendulum|all]
 //                             [--tolerance TOL] [--min-seconds S]

@@ -1,4 +1,4 @@
-"""scripts/c60_clearance_study.py, the C-60 clearance study written against the module:
+"""scripts/analysis/c60_clearance_study.py, the C-60 clearance study written against the module:
 one case through the module backend (nscd_sim.study, 1 and 2 processes), through
 the CLI backend (nscd_run) and through the sweep backend (nscd_sweep, two shards), the
 figures the same; a case with random journal starts places them (its initial
@@ -12,7 +12,7 @@ import pytest
 
 from conftest import NSCD_RUN, REPO
 
-STUDY = os.path.join(REPO, 'scripts', 'c60_clearance_study.py')
+STUDY = os.path.join(REPO, 'scripts', 'analysis', 'c60_clearance_study.py')
 
 
 def run_study(out, *args):

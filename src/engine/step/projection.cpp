@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "least_distance.hpp"
+#include "geometry/least_distance.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {

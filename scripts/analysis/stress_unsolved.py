@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The stress suite's unsolved friction-contact problems, and whether they can be solved.
 
-  scripts/stress_unsolved.py [--csv build/perf/stress.csv] [--every 6] [--per-case 8]
+  scripts/analysis/stress_unsolved.py [--csv build/perf/stress.csv] [--every 6] [--per-case 8]
                              [--out build/stress_unsolved] [--tol 1e-8] [--max-iter 200]
 
 1. From a stress run's CSV (scripts/stress.sh), takes every EVERY-th case with
@@ -36,7 +36,7 @@ try:
 except ImportError as e:
     sys.exit(f"stress_unsolved.py needs numpy and scipy ({e}): apt-get install python3-scipy")
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.path.join(os.environ.get("NSCD_WS", os.path.join(REPO, ".build", "ws")), "devel", "lib", "nscd_sim")
 FACETS = 16
 MARGIN = 1e-6  # |t| below this (relative to |b|): borderline, counted apart

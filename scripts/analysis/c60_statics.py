@@ -26,6 +26,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'c60_model'))
 import c60_scene as S  # noqa: E402
 
 J2 = np.array([0.0, 0.0])

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "clearance_joint.hpp"
+#include "joints/clearance_joint.hpp"
 #include "contact_pair.hpp"
 
 namespace nscd {

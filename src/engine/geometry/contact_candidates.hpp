@@ -3,7 +3,7 @@
 #pragma once
 
 #include "narrowphase_cache.hpp"
-#include "step_stages.hpp"
+#include "step/step_stages.hpp"
 
 namespace nscd {
 

@@ -19,6 +19,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'c60_model'))
 import c60_plot  # noqa: E402
 import c60_scene  # noqa: E402
 from c60_clearance_study import nscd_run, table_command  # noqa: E402
@@ -40,7 +41,7 @@ def bench_force(rest, out, exe, table):
 
 
 def main():
-    repo = os.path.dirname(HERE)
+    repo = os.path.dirname(os.path.dirname(HERE))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--target', type=float, default=15.28)
     ap.add_argument('--start', type=float, default=c60_scene.P3_REST_CALIBRATED)

@@ -9,7 +9,7 @@ the error: it is where the friction-held rest left the bar), the latch release t
 the C7 opening time (both counted from the probe's start at 0.7 ms), the mean
 tripping force while the probe is in contact, the peak of its 0.1-ms running mean
 (so that steps of any size compare impulse for impulse), each as
-scripts/c60_trip_figures.py defines it, their relative errors against the
+scripts/analysis/c60_trip_figures.py defines it, their relative errors against the
 reference, the wall time and the real-time factor. The recommended dt is the largest whose four figures are all within 1 %.
 """
 import argparse
@@ -30,7 +30,7 @@ PROBE = 'probe=0:0,0.0007:0,0.0207:0.004'
 
 
 def figures(csv):
-    """The four figures of the work-precision, as scripts/c60_trip_figures.py defines them."""
+    """The four figures of the work-precision, as scripts/analysis/c60_trip_figures.py defines them."""
     f = c60_trip_figures.figures(c60_plot.load(csv))
     s = lambda key: None if f.get(key) is None else 1e-3 * f[key]  # noqa: E731
     return {'touch_s': s('touch_ms'), 'release_s': s('release_ms'), 'c7_open_s': s('c7_open_ms'),
@@ -54,7 +54,7 @@ def run(scene, dt, out):
 
 
 def main():
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--scene', default=os.path.join(repo, 'urdf/c60.urdf'))
     ap.add_argument('--dts', default='1e-4,5e-5,2e-5,1e-5,5e-6,2e-6,1e-6')

@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 
-#include "joint_rows.hpp"
+#include "joints/joint_rows.hpp"
 
 namespace nscd {
 namespace {

@@ -17,7 +17,7 @@
 #include "nscd_sim/contact_geometry.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/simulator.hpp"
-#include "narrowphase_cache.hpp"
+#include "geometry/narrowphase_cache.hpp"
 
 namespace nscd {
 

@@ -3,7 +3,7 @@
 // polarisation in its bearing.
 #pragma once
 
-#include "contact_candidates.hpp"
+#include "geometry/contact_candidates.hpp"
 
 namespace nscd {
 

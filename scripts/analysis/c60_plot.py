@@ -76,7 +76,7 @@ def first_time(t, mask):
 
 # --------------------------------------------------------------------------- trip
 def trip(d, png):
-    """The trip's figures (scripts/c60_trip_figures.py defines each) and its plot."""
+    """The trip's figures (scripts/analysis/c60_trip_figures.py defines each) and its plot."""
     import c60_trip_figures
     f = c60_trip_figures.figures(d)
     t = d['t']

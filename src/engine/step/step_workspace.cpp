@@ -3,7 +3,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "contact_pair.hpp"
+#include "geometry/contact_pair.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {

@@ -189,7 +189,7 @@ def main():
     repo = os.path.dirname(os.path.abspath(a.docs))
     wp = open(os.path.join(a.out, "work_precision.md")).read() if os.path.exists(os.path.join(a.out, "work_precision.md")) else "_(missing)_\n"
     sweep = jline(os.path.join(a.out, "sweep.json")) or {}
-    tmpl = open(os.path.join(repo, "scripts", "performance_template.md")).read()
+    tmpl = open(os.path.join(repo, "scripts", "templates", "performance_template.md")).read()
     text = (tmpl.replace("@MACHINE@", "%s, %d cores, %s" % (cpu(), os.cpu_count(), platform.platform()))
             .replace("@COMMIT@", git_rev(repo))
             .replace("@ELAPSED@", "%d min %d s" % divmod(a.elapsed, 60) + (

@@ -9,7 +9,7 @@
 //   body B: [0, (R_b^T d)^T]              body A: -[0, (R_a^T d)^T].
 #pragma once
 
-#include "step_stages.hpp"
+#include "step/step_stages.hpp"
 
 namespace nscd {
 

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "clearance_joint.hpp"
-#include "contact_pair.hpp"
+#include "joints/clearance_joint.hpp"
+#include "geometry/contact_pair.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {

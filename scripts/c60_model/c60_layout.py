@@ -23,7 +23,7 @@ def main():
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    png = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '..', 'docs', 'c60_layout.png')
+    png = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '..', '..', 'docs', 'c60_layout.png')
     fig, ax = plt.subplots(figsize=(8, 8))
     col = {'handle': 'C1', 'rod': 'C5', 'hook': 'C4', 'plate': 'C2', 'moving_contact': 'C0', 'trip_bar': 'C8',
            'needle': 'k', 'world': '0.4', 'probe': 'C3', 'table': '0.2'}
