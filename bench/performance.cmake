@@ -12,7 +12,7 @@ target_compile_options(nscd_sweep_core PRIVATE -Wall -Wextra)
 set_target_properties(nscd_sweep_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 find_package(Threads REQUIRED)
-set(NSCD_SWEEP_BIN ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+set(NSCD_SWEEP_BIN ${NSCD_BIN_DIR})
 
 add_executable(nscd_sweep ${PROJECT_SOURCE_DIR}/src/nscd_sweep/main.cpp)
 add_executable(nscd_stress ${PROJECT_SOURCE_DIR}/bench/stress.cpp)
@@ -23,7 +23,7 @@ foreach(tool nscd_sweep nscd_stress nscd_work_precision)
   target_compile_definitions(${tool} PRIVATE NSCD_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   set_target_properties(${tool} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${NSCD_SWEEP_BIN})
 endforeach()
-install(TARGETS nscd_sweep RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS nscd_sweep RUNTIME DESTINATION ${NSCD_INSTALL_BINDIR})
 
 # The unit tests are declared after this file is included: link the short stress
 # test once the whole directory has been read.

@@ -50,7 +50,7 @@ function(nscd_optional_siconos_targets)
     set(have_fclib TRUE)
   endif()
 
-  set(bin_dir ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  set(bin_dir ${NSCD_BIN_DIR})
   if(have_kernel AND have_numerics)
     add_executable(nscd_siconos_compare
       ${PROJECT_SOURCE_DIR}/bench/siconos/siconos_compare.cpp
