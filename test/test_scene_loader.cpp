@@ -564,6 +564,14 @@ const BadCase kBad[] = {
     {"21_ring_span_too_large.urdf", 18, "attribute 'span' of <shape> must be in (0, 6.28"},
     {"22_face_size_one_number.urdf", 19, "attribute 'size' of <shape> type 'face': expected 2 numbers, got '0.2'"},
     {"23_actuator_schedule_decreasing.urdf", 17, "attribute 'schedule' of <actuator>: schedule 'seat=0:-0.015,0.002:-0.015,0.001:0': times must not decrease"},
+    {"24_spring_load_on_third_body.urdf", 47, "<force> of spring 'pull': link 'lever' is on body 'lever', not on one of the spring's bodies (ground, body 'plate')"},
+    {"25_torsion_joint_and_angle.urdf", 45, "torsion spring 'twist' needs either a joint attribute or one <angle> child, got the joint and 1 <angle>"},
+    {"26_torsion_without_angle.urdf", 45, "torsion spring 'twist' needs either a joint attribute or one <angle> child, got 0 <angle>"},
+    {"27_spring_force_zero_direction.urdf", 46, "<force> of spring 'twist': direction must be non-zero"},
+    {"28_angle_links_on_one_body.urdf", 46, "<angle> of spring 'twist': links 'arm' and 'arm_tip' are both on body 'arm'"},
+    {"29_couple_without_scale.urdf", 47, "<couple> is missing attribute 'scale'"},
+    {"30_spring_load_on_ground.urdf", 46, "<couple> of spring 'twist': link 'world' is ground, which takes no load"},
+    {"31_angle_in_linear_spring.urdf", 47, "unknown element <angle> in <spring>"},
 };
 
 TEST(SceneLoaderBad, EachBadSceneIsRefusedWithFileLineAndReason) {

@@ -127,17 +127,39 @@ struct ContactPair {
 
 enum class SpringType { Linear, Torsion };
 
+// How a spring's scalar reaches a body when the scene says so (<force>, <couple>):
+// a force along a body-fixed direction at a body-fixed point, or a body-fixed
+// couple, `scale` times the scalar (the tension, or the torque on body_b).
+struct SpringLoad {
+  bool couple = false;
+  bool on_b = false;               // the load's body: body_b, else body_a
+  Vec3 point = Vec3::Zero();       // force: application point, body frame
+  Vec3 direction = Vec3::UnitX();  // unit; force direction or couple axis, body frame
+  double scale = 1;                // N per unit scalar (1/m for a torsion spring's force, m for a linear spring's couple)
+  int line = 0;                    // its element's line in the scene
+};
+
 struct Spring {
   std::string name;
   SpringType type = SpringType::Linear;
   double stiffness = 0;
   double rest = 0;       // rest length (m) or rest angle (rad)
   double damping = 0;
-  int body_a = kGround;  // linear: first <end>; torsion: joint parent
-  int body_b = kGround;  // linear: second <end>; torsion: joint child
+  int body_a = kGround;  // linear: first <end>; torsion: joint parent, or <angle link_a>
+  int body_b = kGround;  // linear: second <end>; torsion: joint child, or <angle link_b>
   Vec3 end_a = Vec3::Zero();  // linear: attachment points, body frames
   Vec3 end_b = Vec3::Zero();
-  int joint = -1;        // torsion: index into Model::joints
+  int joint = -1;        // torsion: the joint whose coordinate it reads (index into Model::joints), or -1
+  // Torsion without a joint (<angle>): the angle of body_b relative to body_a about
+  // an axis fixed in body_a, held as the revolute joint that would have that
+  // coordinate (axis_a, rel_rot_zero; body_a, body_b; anchors unused). Read within
+  // ±pi of its value at the initial placement, relative_initial.
+  Joint relative;
+  double relative_initial = 0;
+  // Empty: the spring acts as a spring (a line force between its ends, or a pure
+  // moment pair about its axis). Else these loads replace that: they do work the
+  // spring's potential does not account for (energy_bookkeeping.cpp).
+  std::vector<SpringLoad> loads;
   SourceRef src;
 };
 

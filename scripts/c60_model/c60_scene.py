@@ -6,12 +6,14 @@ source tags from model-facts.md ([Q-code], [D-code], [Q-paper], [INF], [OWN] =
 our own choice); the writer converts to SI. docs/c60.md explains every choice.
 
   scripts/c60_model/c60_scene.py                       writes urdf/c60.urdf, c60_bench.urdf, c60_ideal.urdf,
-                                             c60_bench_ideal.urdf and c60_authors.urdf
+                                             c60_bench_ideal.urdf, c60_authors.urdf and
+                                             c60_authors_bench.urdf
   scripts/c60_model/c60_scene.py --out F [--bench] [--clearance-scale S] [--friction-scale S]
                        [--p3-rest R]          writes one variant (sensitivity runs)
-  scripts/c60_model/c60_scene.py --variant authors [--out F]
+  scripts/c60_model/c60_scene.py --variant authors [--bench] [--spring-pairs] [--out F]
                                              the authors' model (urdf/c60_authors.urdf):
-                                             their clearances, mu, preloads; handle free
+                                             their clearances, mu, preloads, spring loads;
+                                             handle free
 """
 import argparse
 import json
@@ -171,6 +173,24 @@ K_P3 = 244.46        # N mm/rad [Q-code]
 # P3 relative angle at ON: Delta = th_mc - th_plate - (-54.54 - 22.0) deg; M = K2 (Delta + 0.49).
 DELTA_ON = (-71.25 - (-2.0) - (-54.54 - 22.0)) * DEG   # [D-code] 7.29 deg
 P3_REST_CODE = -(DELTA_ON + 0.49)                      # rad: torque on MC = K2 * rest at ON
+# P3 reads the angle of the moving contact's CAD frame relative to the plate's about z
+# (<angle>), -69.25 deg at ON; its rest angle is given from ON (p3_rest) and written
+# from that zero.
+P3_ANGLE_ON = (-71.25 - (-2.0)) * DEG
+
+# The published loads [Q-code plugin1.cpp, model-facts 2.4]: the plugin writes each spring
+# as forces and couples fixed in a body, multiples of the spring's moment or force (its
+# outputs are subtracted by the Newton-Euler body after it negates them: they act as
+# computed). Points and directions in the body's CAD frame (mm); the spring's scalar
+# (docs/scene-format.md) is the torque on the second body for a torsion spring, the
+# tension k (L - L0) for a linear one.
+P1_POINT = (0.0, -5.65, -0.9)          # handle: C/5.65 along handle-local +x here
+P1_ARM = 5.65                          # mm: F = C / 5.65
+P3_PLATE_DIR = (-1.1, 0.9, 0.0)        # plate: M / 5.48 along this, at the plate's CoM
+P3_PLATE_ARM = 5.48                    # mm [Q-code d_gplatine, "updated 26 May 2015"]
+P3_PLATE_COUPLE = 0.2513               # plate: + 0.2513 M about z [Q-code lva1r]
+P3_MC_DIR = (0.6, -1.1, -0.01)         # moving contact: M / 6.06 along this, at its CoM
+P3_MC_ARM = 6.06                       # mm [Q-code d_gequipage]
 
 
 def draw_axial_offsets(rng, joint_list, play, loop_joint='S3'):
@@ -216,17 +236,21 @@ def geometry_points():
 
 
 def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='main',
-          radial_scale=1.0, axial_scale=1.0, radial_mm=None, journal_seed=None):
+          radial_scale=1.0, axial_scale=1.0, radial_mm=None, journal_seed=None, spring_pairs=False):
     """variant 'authors': the authors' model (docs/c60.md, "main model vs authors' model"):
     their clearances and joint mu, no axial contacts, the code's P3 preload (not the
-    calibrated one), the J1 top/bottom rings, the seat F4 and fillet F3 as their code
-    uses them, and no handle servo (the handle free).
+    calibrated one) and their springs' loads as the plugin applies them, the J1
+    top/bottom rings, the seat F4 and fillet F3 as their code uses them, and no handle
+    servo (the handle free); with bench, the bench table as in the main model's.
+    spring_pairs (authors only): its springs as springs (moment pairs, a line force),
+    not as the plugin's loads: what the loads change (scripts/c60_loads_compare.sh).
     radial_scale / axial_scale scale the radial / axial clearances only (on top of cscale);
     radial_mm sets every radial clearance of J1-J7 to one value (S3, the needle in the case, kept); journal_seed draws
     each journal's initial position uniformly inside its clearance (<clearance
     initial_offset>; numpy's default_rng(seed), so a seed gives the same scene anywhere)."""
     authors = variant == 'authors'
-    assert variant in ('main', 'authors') and not (authors and bench)
+    assert variant in ('main', 'authors') and (authors or not spring_pairs)
+    loads = authors and not spring_pairs
     if p3_rest is None:
         p3_rest = P3_REST_CODE if authors else P3_REST_CALIBRATED
     out = []
@@ -241,9 +265,11 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
                                     (', journals placed at random (seed %s)' % journal_seed, journal_seed is not None)] if on)
     w('     clearance scale %g, friction scale %g%s%s -->' % (cscale, fscale, extra, ', with bench table' if bench else ''))
     if authors:
-        w('<!-- The AUTHORS\' MODEL (--variant authors): their clearances, friction and preloads,')
-        w('     no axial contacts, the handle free; docs/c60.md "Main model vs the authors\' model". -->')
-    w('<robot name="c60%s">' % ('_bench' if bench else '_authors' if authors else ''))
+        w('<!-- The AUTHORS\' MODEL (--variant authors): their clearances, friction, preloads and')
+        w('     spring loads%s, no axial contacts, the handle free; docs/c60.md "Main model vs the'
+          % (' (here as moment pairs and a line force: --spring-pairs)' if spring_pairs else ''))
+        w('     authors\' model". -->')
+    w('<robot name="c60%s%s">' % ('_authors' if authors else '', '_bench' if bench else ''))
 
     # ---- ground: case + cover. Visuals only (contacts are declared in <nscd>).
     w('  <link name="world">')
@@ -301,7 +327,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
 
     # ---- joint pivot frames: massless links fixed to the bodies, on the joint axis at
     # mid-bearing, axes parallel to the world axes at ON (so every joint angle is 0 at ON).
-    for (jn, parent, child, journal, axy, ringz, rj, cr, mu) in joints(variant) + [P3_AXIS]:
+    for (jn, parent, child, journal, axy, ringz, rj, cr, mu) in joints(variant):
         zc = 0.5 * (ringz[0] + ringz[1])
         c = np.array([axy[0], axy[1], zc])
         o, R = pose(child)
@@ -312,7 +338,7 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
         w('  </joint>')
 
     w('  <nscd>')
-    for (jn, parent, child, journal, axy, ringz, rj, cr, mu) in joints(variant) + [P3_AXIS]:
+    for (jn, parent, child, journal, axy, ringz, rj, cr, mu) in joints(variant):
         zc = 0.5 * (ringz[0] + ringz[1])
         c = np.array([axy[0], axy[1], zc])
         if parent == 'world':
@@ -341,21 +367,31 @@ def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='m
           ' bumps="%d" bump_radius="%.9g" mu="%.9g" e="0"%s/>' %
           (jn, journal, rj * MM, crs * MM, L * MM, cax * MM, AUTHORS_BUMPS if authors else BUMPS,
            BUMP_R * MM, mu * fscale, offset))
-    # P3 needs a joint to define its axis and angle; this one has a 1 m clearance and no
-    # bumps, so it never makes a contact: it constrains nothing (see docs/c60.md).
-    w('    <clearance joint="P3_axis" journal="parent" radius="1e-3" radial="1" length="1e-3" axial="1"'
-      ' bumps="0" mu="0" e="0"/>')
 
-    # ---- springs
-    w('    <spring name="P1_handle" type="torsion" joint="J1" stiffness="%.9g" rest_angle="%.9g"/>' %
-      (K_HANDLE * NMM, A0_HANDLE))
+    # ---- springs: the main model's as springs (a moment pair, a line force); the authors'
+    # as their plugin applies them (P1_POINT ... above), the same laws and numbers.
+    w('    <spring name="P1_handle" type="torsion" joint="J1" stiffness="%.9g" rest_angle="%.9g"%s' %
+      (K_HANDLE * NMM, A0_HANDLE, '>' if loads else '/>'))
+    if loads:  # C / 5.65 at handle (0, -5.65, -0.9) along handle-local x; the scalar is C
+        w('      <force link="handle" xyz="%s" direction="1 0 0" scale="%.9g"/>' % (fmt(P1_POINT), 1 / (P1_ARM * MM)))
+        w('    </spring>')
     w('    <spring name="P2_plate" type="linear" stiffness="%.9g" rest_length="%.9g">' %
       (K_PLATE * NPMM, L0_PLATE * MM))
     w('      <end link="world" xyz="%s"/><end link="plate" xyz="%s"/>' %
       (fmt(PLATE_ANCHOR_CASE), fmt(PLATE_ANCHOR_PLATE)))
+    if loads:  # k (L0 - L) = -tension along plate-local -x, at the plate anchor
+        w('      <force link="plate" xyz="%s" direction="-1 0 0" scale="-1"/>' % fmt(PLATE_ANCHOR_PLATE))
     w('    </spring>')
-    w('    <spring name="P3_contact" type="torsion" joint="P3_axis" stiffness="%.9g" rest_angle="%.9g"/>' %
-      (K_P3 * NMM, p3_rest))
+    w('    <spring name="P3_contact" type="torsion" stiffness="%.9g" rest_angle="%.9g">' %
+      (K_P3 * NMM, P3_ANGLE_ON + p3_rest))
+    w('      <angle link_a="plate" link_b="moving_contact" axis="0 0 1"/>')
+    if loads:  # the scalar is the torque on the moving contact, -M
+        w('      <force link="plate" xyz="%s" direction="%s" scale="%.9g"/>' %
+          (fmt(BODIES['plate']['com']), fmt(P3_PLATE_DIR, 1), -1 / (P3_PLATE_ARM * MM)))
+        w('      <couple link="plate" axis="0 0 1" scale="%.9g"/>' % -P3_PLATE_COUPLE)
+        w('      <force link="moving_contact" xyz="%s" direction="%s" scale="%.9g"/>' %
+          (fmt(BODIES['moving_contact']['com']), fmt(P3_MC_DIR, 1), -1 / (P3_MC_ARM * MM)))
+    w('    </spring>')
 
     # ---- contacts
     for c in contacts(bench, fscale, variant):
@@ -391,7 +427,6 @@ MIN_CLEARANCE = 0.001   # mm: the "x0" clearance runs use 1 um (the engine needs
 HANDLE_KP = 0.3         # N m/rad [OWN] handle servo (a user's hand)
 HANDLE_KD = 3e-4        # N m s/rad [OWN] about critical for the handle inertia
 HANDLE_MAX = 0.1        # N m [OWN]
-P3_AXIS = ('P3_axis', 'plate', 'moving_contact', 'parent', (0.0, 0.0), (2.0, 2.0 + 1e-3), 1.0, 1000.0, 0.0)
 # [OWN, calibrated] the one parameter fitted to the paper's bench figure (docs/c60.md):
 # the P3 preload, so that the bench force at 2.0 mm is 15.28 N.
 P3_REST_CALIBRATED = -1.130
@@ -596,6 +631,22 @@ def contacts(bench, fs, variant='main'):
     # whose apex is the tooth corner (0.25, 7.0).
     out.append(ring_face('C4_3', 'Hook_Tbar_C4_3', fs, ring_body=2))
     out.append(ring_face('C4_4', 'Hook_Tbar_C4_4', fs, ring_body=2))
+    # C4_3_tip / C4_4_tip: the hook's flat ends at the hook's tip, the edge it shares with
+    # C5's arc (r 5.63 about J3); where the bar's tooth corner passes that edge the
+    # contact is corner on edge, its normal the geometric one, from the edge to the
+    # corner [OWN, from the CAD patches of C4_3 and C5]. The edge is a `cylinder` along
+    # hook-local z through the tip, of radius the contact's offset (the CAD's distance
+    # minus the offset, as the face's shift), its surface kept between the flat's
+    # outward normal and the arc's: at either end the point and the normal are those of
+    # the face it continues. The same rings (the tooth corner), mu and offset as
+    # C4_3 / C4_4.
+    tip, z_span, a_arc, span = hook_tip_edge()
+    for nm, cadn in [('C4_3_tip', 'Hook_Tbar_C4_3'), ('C4_4_tip', 'Hook_Tbar_C4_4')]:
+        cad = CAD[cadn]
+        out.append(contact(nm, cad['mu'] * fs,
+                           cylinder_arc('hook', (tip[0], tip[1], 0.5 * (z_span[0] + z_span[1])), [0, 0, 1.0],
+                                        cad['offset'], z_span[1] - z_span[0], a_arc, span),
+                           ring_of(cad['patch2'][0], 'trip_bar')))
 
     # C5, the bar's clockwise stop on the hook [CAD rows 29-30]: the hook's arc r 5.63 about
     # J3 (hook z -0.5..2.5; its end at the tip, y -1.004 (bbox), span from uv_used) vs the
@@ -694,6 +745,29 @@ def contacts(bench, fs, variant='main'):
         # hysteresis comes from the joints only.
         out.append(contact('TABLE', 0.0, c7_arc(), shape('table', 'plane', (0, 0, 0), frame([1.0, 0, 0], [0, 1.0, 0]))))
     return out
+
+
+def hook_tip_edge():
+    """The hook's tip edge (hook-local, mm), where its flat (C4_3's face) ends and C5's arc
+    r 5.63 about J3 begins: the tip's (x, y), the flat's z span, and the angles (rad, from
+    hook-local +x about +z) from the arc's outward normal there to the flat's."""
+    cad = CAD['Hook_Tbar_C4_3']
+    flat = cad['patch1'][0]
+    n = outward_from_points(cad, 1, flat)
+    along = np.cross([0, 0, 1.0], n)                    # the face frame's x (face_of)
+    lo, hi = np.array(flat['bbox_local'][0]), np.array(flat['bbox_local'][1])
+    centre = np.array(flat['point_local'], float)
+    tip = centre - 0.5 * math.hypot(*(hi - lo)[:2]) * along
+    if np.dot(tip[:2] - lo[:2], tip[:2] - lo[:2]) > np.dot(centre[:2] - lo[:2], centre[:2] - lo[:2]):
+        tip = centre + 0.5 * math.hypot(*(hi - lo)[:2]) * along
+    arc = CAD['Tbar_Hook_C5_1']['patch1'][0]
+    assert np.linalg.norm(tip[:2] - np.array(arc['centre_local'][:2])) - arc['radius'] < ROUND, tip
+    assert np.linalg.norm(tip[:2] - lo[:2]) < ROUND, (tip, lo)     # the flat's lower end
+    out_arc = tip[:2] - np.array(arc['centre_local'][:2])
+    a_arc, a_flat = math.atan2(out_arc[1], out_arc[0]), math.atan2(n[1], n[0])
+    span = (a_flat - a_arc) % (2 * math.pi)
+    assert 0 < span < math.pi, span
+    return tip[:2], (lo[2], hi[2]), a_arc, span
 
 
 def c7_arc():
@@ -827,7 +901,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--out', help='write one scene (the options below) to this file')
     ap.add_argument('--out-dir', help='write the shipped scenes (c60.urdf, c60_bench.urdf, '
-                    'c60_ideal.urdf, c60_bench_ideal.urdf, c60_authors.urdf) here instead of the '
+                    'c60_ideal.urdf, c60_bench_ideal.urdf, c60_authors.urdf, c60_authors_bench.urdf) here instead of the '
                     'repository\'s urdf/')
     ap.add_argument('--bench', action='store_true')
     ap.add_argument('--clearance-scale', type=float, default=1.0,
@@ -843,6 +917,9 @@ def main():
     ap.add_argument('--info', action='store_true')
     ap.add_argument('--variant', choices=['main', 'authors'], default=None,
                     help="authors: the authors' model (urdf/c60_authors.urdf without --out)")
+    ap.add_argument('--spring-pairs', action='store_true',
+                    help="with --variant authors: its springs as moment pairs and a line force, not the "
+                    "plugin's loads")
 
     a = ap.parse_args()
     if a.info:
@@ -854,7 +931,7 @@ def main():
     variant = a.variant or 'main'
     if a.out or a.variant == 'authors':
         text = build(a.bench, a.clearance_scale, a.friction_scale, a.p3_rest, a.dt, variant,
-                     a.radial_scale, a.axial_scale, a.radial_mm, a.journal_seed)
+                     a.radial_scale, a.axial_scale, a.radial_mm, a.journal_seed, a.spring_pairs)
         out = a.out or os.path.join(a.out_dir or os.path.join(repo, 'urdf'), 'c60_authors.urdf')
         with open(out, 'w') as f:
             f.write(text)
@@ -862,7 +939,8 @@ def main():
     out_dir = a.out_dir or os.path.join(repo, 'urdf')
     for bench, cscale, var, fn in [(False, 1.0, 'main', 'c60.urdf'), (True, 1.0, 'main', 'c60_bench.urdf'),
                                    (False, 0.0, 'main', 'c60_ideal.urdf'), (True, 0.0, 'main', 'c60_bench_ideal.urdf'),
-                                   (False, 1.0, 'authors', 'c60_authors.urdf')]:
+                                   (False, 1.0, 'authors', 'c60_authors.urdf'),
+                                   (True, 1.0, 'authors', 'c60_authors_bench.urdf')]:
         with open(os.path.join(out_dir, fn), 'w') as f:
             f.write(build(bench, cscale, variant=var))
 

@@ -4,7 +4,8 @@
 // a contact; the exact motion never did) beyond the work the inputs did in the
 // step (a driven table pushing a spring-loaded part: the drift into the table is
 // that work, delivered late) is a discretisation artefact, taken back from the
-// kinetic energy of the bodies whose motion is not prescribed.
+// kinetic energy of the bodies whose motion is not prescribed. Springs applied as
+// body-fixed loads are not conservative: no potential, their work is input work.
 #include <algorithm>
 #include <cmath>
 
@@ -56,13 +57,12 @@ EnergyReport potentialEnergyOf(const Model& m, const State& s) {
   EnergyReport e;
   for (size_t i = 0; i < m.bodies.size(); ++i)
     e.gravity -= m.bodies[i].mass * m.settings.gravity.dot(s.bodies[i].x);
-  for (const Spring& sp : m.springs) {
-    double stretch;
-    if (sp.type == SpringType::Linear) {
-      stretch = (bodyPointWorld(s, sp.body_b, sp.end_b) - bodyPointWorld(s, sp.body_a, sp.end_a)).norm() - sp.rest;
-    } else {
-      stretch = jointPosition(m, s, sp.joint) - sp.rest;
-    }
+  for (size_t i = 0; i < m.springs.size(); ++i) {
+    const Spring& sp = m.springs[i];
+    // A spring applied as body-fixed loads has no potential: the loads' work is
+    // not the change of 1/2 k stretch^2. It is counted as input work instead.
+    if (!sp.loads.empty()) continue;
+    const double stretch = springStretchAt(m, s, static_cast<int>(i));
     e.springs += 0.5 * sp.stiffness * stretch * stretch;
   }
   return e;
@@ -77,6 +77,8 @@ double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const 
     else if (ac.type == ActuatorType::Position)
       work += out.actuator_effort[i] * jointVelocity(m, s, ac.joint) * h;
   }
+  for (size_t i = 0; i < m.springs.size(); ++i)
+    if (!m.springs[i].loads.empty()) work += springLoadPowerAt(m, s, static_cast<int>(i)) * h;
   return std::max(0.0, work);
 }
 

@@ -1,7 +1,8 @@
-// Stage 1: forces. Gravity, springs, dampers and actuators, with the derivatives
-// the Moreau-Jean iteration matrix needs for the stiff elements (springs and PD
-// actuators), by finite differences per element (undamped linear springs: in closed
-// form). (Gyroscopic torques: free_velocity.cpp.)
+// Stage 1: forces. Gravity, springs (their own line force or moment pair, or the
+// body-fixed loads the scene applies their scalar as), dampers and actuators, with
+// the derivatives the Moreau-Jean iteration matrix needs for the stiff elements
+// (springs and PD actuators), by finite differences per element (undamped linear
+// springs without loads: in closed form). (Gyroscopic torques: free_velocity.cpp.)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,6 +43,37 @@ struct Element {
   int joint;  // torsion spring or PD actuator: its joint; else -1
 };
 
+// The joint whose coordinate a torsion spring reads: its joint, or the stand-in of
+// its relative angle.
+const Joint& angleJoint(const Model& m, const Spring& sp) {
+  return sp.joint >= 0 ? m.joints[sp.joint] : sp.relative;
+}
+
+// The reference its continuous angle is read near: the joint's tracked angle, or
+// the relative angle's initial value.
+double angleReference(const Spring& sp, const State& s) {
+  if (sp.type != SpringType::Torsion) return 0.0;
+  return sp.joint >= 0 ? s.joint_angle[sp.joint] : sp.relative_initial;
+}
+
+// A spring's scalar reaching its bodies as the scene's body-fixed loads: a force
+// `scale` x scalar along a body-fixed direction at a body-fixed point, or a couple
+// `scale` x scalar about a body-fixed axis (generalized forces: world force, body
+// torque).
+void addSpringLoads(const Spring& sp, const BodyState& a, const BodyState& b, double scalar,
+                    Vec6& fa, Vec6& fb) {
+  for (const SpringLoad& load : sp.loads) {
+    Vec6& g = load.on_b ? fb : fa;
+    const Vec3 v = (load.scale * scalar) * load.direction;  // body frame
+    if (load.couple) {
+      g.tail<3>() += v;
+      continue;
+    }
+    g.head<3>() += (load.on_b ? b : a).q * v;
+    g.tail<3>() += load.point.cross(v);
+  }
+}
+
 // Generalized forces of an element on its two bodies. `report` gets the spring
 // force (tension / torque on b) or the actuator effort. commands: unused for
 // springs; angle_ref: the joint's continuous angle (torsion springs, PD actuators).
@@ -56,25 +88,34 @@ void elementForce(const Model& m, const Element& el, const BodyState& a, const B
       const Vec3 pa = pointWorld(a, sp.end_a), pb = pointWorld(b, sp.end_b);
       Vec3 d = pb - pa;
       const double L = d.norm();
-      if (L < 1e-15) {  // direction undefined: no force
-        report = 0;
+      if (L < 1e-15) {  // direction undefined: no line force, no rate
+        report = sp.loads.empty() ? 0.0 : sp.stiffness * (L - sp.rest);
+        addSpringLoads(sp, a, b, report, fa, fb);
         return;
       }
       const Vec3 u = d / L;
       const double rate = (pointVelocity(b, sp.end_b) - pointVelocity(a, sp.end_a)).dot(u);
       const double f = sp.stiffness * (L - sp.rest) + sp.damping * rate;  // tension
+      report = f;
+      if (!sp.loads.empty()) {
+        addSpringLoads(sp, a, b, f, fa, fb);
+        return;
+      }
       addForceAt(fa, a, f * u, pa);
       addForceAt(fb, b, -f * u, pb);
-      report = f;
     } else {
-      const Joint& j = m.joints[sp.joint];
+      const Joint& j = angleJoint(m, sp);
       const double ang = jointCoordinateNear(j, a, b, angle_ref);
       const Vec3 axis = a.q * j.axis_a;
       const double rate = rateAbout(j, a, b, axis);
       const double tau = -sp.stiffness * (ang - sp.rest) - sp.damping * rate;  // on b
+      report = tau;
+      if (!sp.loads.empty()) {
+        addSpringLoads(sp, a, b, tau, fa, fb);
+        return;
+      }
       addTorque(fb, b, tau * axis);
       addTorque(fa, a, -tau * axis);
-      report = tau;
     }
     return;
   }
@@ -174,10 +215,31 @@ double springForceAt(const Model& m, const State& s, int spring) {
   Vec6 fa, fb;
   double report = 0;
   static const std::vector<double> kNoCommands;
-  const double ref = sp.type == SpringType::Torsion ? s.joint_angle[sp.joint] : 0.0;
   elementForce(m, Element{true, spring, sp.body_a, sp.body_b, sp.joint}, bodyOrGround(s, sp.body_a),
-               bodyOrGround(s, sp.body_b), kNoCommands, ref, fa, fb, report);
+               bodyOrGround(s, sp.body_b), kNoCommands, angleReference(sp, s), fa, fb, report);
   return report;
+}
+
+double springStretchAt(const Model& m, const State& s, int spring) {
+  const Spring& sp = m.springs[spring];
+  const BodyState& a = bodyOrGround(s, sp.body_a);
+  const BodyState& b = bodyOrGround(s, sp.body_b);
+  if (sp.type == SpringType::Linear)
+    return (pointWorld(b, sp.end_b) - pointWorld(a, sp.end_a)).norm() - sp.rest;
+  return jointCoordinateNear(angleJoint(m, sp), a, b, angleReference(sp, s)) - sp.rest;
+}
+
+double springLoadPowerAt(const Model& m, const State& s, int spring) {
+  const Spring& sp = m.springs[spring];
+  const BodyState& a = bodyOrGround(s, sp.body_a);
+  const BodyState& b = bodyOrGround(s, sp.body_b);
+  Vec6 fa, fb;
+  double report = 0;
+  static const std::vector<double> kNoCommands;
+  elementForce(m, Element{true, spring, sp.body_a, sp.body_b, sp.joint}, a, b, kNoCommands, angleReference(sp, s),
+               fa, fb, report);
+  // Generalized force (world force, body torque) against the body's (v world, w body).
+  return fa.head<3>().dot(a.v) + fa.tail<3>().dot(a.w) + fb.head<3>().dot(b.v) + fb.tail<3>().dot(b.w);
 }
 
 void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
@@ -189,11 +251,13 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
   const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
   if (with_jacobians)
     for (const std::vector<int>& g : groups)
-      for (int bc : g)
+      for (int bc : g) {
+        ws.K_skew_v.segment<6>(6 * bc).setZero();
         for (int br : g) {
           ws.K.block<6, 6>(6 * br, 6 * bc).setZero();
           ws.C.block<6, 6>(6 * br, 6 * bc).setZero();
         }
+      }
   const Vec3 g = m.settings.gravity;
   for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
   // Force and torque actuators: explicit.
@@ -218,7 +282,7 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     const BodyState& b0 = bodyOrGround(s, el.body_b);
     Vec6 fa, fb;
     double report = 0;
-    const double ref = el.joint >= 0 ? s.joint_angle[el.joint] : 0.0;
+    const double ref = el.is_spring ? angleReference(m.springs[el.index], s) : s.joint_angle[el.joint];
     elementForce(m, el, a0, b0, commands, ref, fa, fb, report);
     if (!el.is_spring) out.actuator_effort[el.index] = report;
     if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
@@ -229,15 +293,27 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     // multiplied by 0): its velocity columns are exactly 0 and are skipped.
     const bool damped = el.is_spring ? m.springs[el.index].damping != 0
                                      : m.actuators[el.index].kd != 0;
-    // About a joint that is not prismatic (torsion springs, PD actuators on
-    // revolute joints) the force reads only orientations and angular velocities:
-    // its columns of x and v are exactly 0 as well, and are skipped.
-    const bool rotational = el.joint >= 0 && m.joints[el.joint].type != JointType::Prismatic;
+    // A torsion spring, and a PD actuator on a revolute joint, read only
+    // orientations and angular velocities, and so do their body-fixed loads (a
+    // world force R d, a body torque p x d): their columns of x and v are exactly
+    // 0 as well, and are skipped.
+    const bool rotational = el.is_spring ? m.springs[el.index].type == SpringType::Torsion
+                                         : m.joints[el.joint].type != JointType::Prismatic;
     // An undamped linear spring's K in closed form (agrees with the differences
     // to their round-off, ~1e-10 of |K|, at a fraction of the cost).
-    if (el.is_spring && !damped && m.springs[el.index].type == SpringType::Linear &&
+    const bool follower = el.is_spring && !m.springs[el.index].loads.empty();
+    if (el.is_spring && !damped && m.springs[el.index].type == SpringType::Linear && !follower &&
         addLinearSpringStiffness(m.springs[el.index], a0, b0, el.body_a, el.body_b, ws.K))
       return;
+    // Body-fixed loads turn with their body: their K is not symmetric. Its symmetric
+    // part goes into K (below) and the iteration matrix; the rest, (K - K^T)/2 v_k,
+    // into K_skew_v, which the step adds explicitly (iteration_matrix.cpp): without
+    // it a follower force through a spinning body's centre would turn the body.
+    auto velocityOf = [&](int body) {
+      Vec6 v;
+      v << s.bodies[body].v, s.bodies[body].w;
+      return v;
+    };
     const int bodies[2] = {el.body_a, el.body_b};
     for (int side = 0; side < 2; ++side) {
       const int bj = bodies[side];
@@ -255,8 +331,22 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
           elementForce(m, el, am, bm, commands, ref, fam, fbm, r);
           Eigen::MatrixXd& D = pos ? ws.K : ws.C;
           const int col = 6 * bj + dof;
-          if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += (fap - fam) / (2 * eps);
-          if (el.body_b != kGround) D.block<6, 1>(6 * el.body_b, col) += (fbp - fbm) / (2 * eps);
+          const Vec6 ka = (fap - fam) / (2 * eps), kb = (fbp - fbm) / (2 * eps);
+          if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += ka;
+          if (el.body_b != kGround) D.block<6, 1>(6 * el.body_b, col) += kb;
+          if (!follower || !pos) continue;
+          // This column's share of (K - K^T)/2 v: column x v[col], minus (column . v) at col.
+          const double v_col = velocityOf(bj)[dof];
+          double along = 0;
+          if (el.body_a != kGround) {
+            ws.K_skew_v.segment<6>(6 * el.body_a) += (0.5 * v_col) * ka;
+            along += ka.dot(velocityOf(el.body_a));
+          }
+          if (el.body_b != kGround) {
+            ws.K_skew_v.segment<6>(6 * el.body_b) += (0.5 * v_col) * kb;
+            along += kb.dot(velocityOf(el.body_b));
+          }
+          ws.K_skew_v[col] -= 0.5 * along;
         }
       }
     }

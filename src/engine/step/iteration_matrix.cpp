@@ -1,7 +1,8 @@
 // Stage 1b: the Moreau-Jean iteration matrix. Springs and PD actuators are
 // implicit: A = M - h theta C - h^2 theta^2 K (C = dF/dv, K = dF/dq, symmetric
-// parts), rhs = h F + h^2 theta K v_k, and Ŵ = A^-1 maps impulses to velocity
-// changes. Without such elements A = M and Ŵ = M^-1, computed once at set-up.
+// parts), rhs = h F + h^2 theta (K v_k + K_skew_v) (the skew part of K, of body-fixed
+// loads, explicit), and Ŵ = A^-1 maps impulses to velocity changes. Without such
+// elements A = M and Ŵ = M^-1, computed once at set-up.
 #include <cmath>
 
 #include "step_stages.hpp"
@@ -112,12 +113,15 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
   const int n = ws.n;
   ws.rhs.noalias() = h * ws.F;
   if (!ws.facts.stiff) return;
-  // K is nonzero only within the stiff groups (forces.cpp).
+  // K is nonzero only within the stiff groups (forces.cpp). Its skew part (springs
+  // with body-fixed loads) enters the rhs only, explicitly: A must stay SPD.
   for (const std::vector<int>& g : ws.facts.stiff_groups)
-    for (int br : g)
+    for (int br : g) {
       for (int bc : g)
         ws.rhs.segment<6>(6 * br).noalias() +=
             (h * h * theta) * (ws.K.block<6, 6>(6 * br, 6 * bc) * ws.vk.segment<6>(6 * bc));
+      ws.rhs.segment<6>(6 * br) += (h * h * theta) * ws.K_skew_v.segment<6>(6 * br);
+    }
   if (!ws.facts.planar) {
     // C and K couple only the bodies of a stiff group, so A is block-diagonal over
     // the groups, and every other body's block is M's: Ŵ is M^-1 there (set up

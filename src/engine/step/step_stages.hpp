@@ -34,8 +34,13 @@ void placeJournals(const Model& m, State& s);
 // dF/dv. Actuator efforts of force and PD actuators go to out.
 void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
                    bool with_jacobians);
-// Force in a spring at the state (tension, or torque on the child for torsion).
+// Force in a spring at the state (tension, or torque on the child for torsion): its
+// scalar, which its loads (if any) are multiples of.
 double springForceAt(const Model& m, const State& s, int spring);
+// Its law's stretch at the state: length - rest length, or angle - rest angle.
+double springStretchAt(const Model& m, const State& s, int spring);
+// Power of its forces on its bodies at the state (W), its body-fixed loads' if any.
+double springLoadPowerAt(const Model& m, const State& s, int spring);
 Vec3 bodyPointWorld(const State& s, int body, const Vec3& local);
 
 // ---- 1b. iteration matrix (iteration_matrix.cpp): rhs = h F (+ h^2 theta K v_k)
@@ -166,7 +171,8 @@ double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
 // the bodies whose motion is not prescribed. Returns what was taken (J).
 double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
-// (effort x commanded displacement) and position servos (effort x joint motion).
+// (effort x commanded displacement), position servos (effort x joint motion) and
+// springs applied as body-fixed loads (their power at the step's end x h).
 double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const StepOutputs& out, const State& s);
 
 // ---- 8. step halving (step_halving.cpp): a step left unsolved is taken again

@@ -102,6 +102,7 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.max_rows = f.bilateral_rows + 3 * f.contact_slots;
   const int mr = std::max(ws.max_rows, 1);
   ws.F = Eigen::VectorXd::Zero(n);
+  ws.K_skew_v = Eigen::VectorXd::Zero(n);
   ws.K = Eigen::MatrixXd::Zero(n, n);
   ws.C = Eigen::MatrixXd::Zero(n, n);
   ws.A = Eigen::MatrixXd::Zero(n, n);

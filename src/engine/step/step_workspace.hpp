@@ -98,6 +98,10 @@ class StepWorkspace {
   Eigen::VectorXd F;       // generalized force at t_k
   Eigen::MatrixXd K;       // dF/dq (through the exponential map), symmetric part
   Eigen::MatrixXd C;       // dF/dv, symmetric part
+  // (K_full - K_full^T)/2 v_k of the springs with body-fixed loads (forces.cpp): the
+  // part of the force's change over the step that K, symmetric, leaves out; the
+  // step takes it explicitly (rhs += h^2 theta K_skew_v, iteration_matrix.cpp).
+  Eigen::VectorXd K_skew_v;
   Eigen::MatrixXd A;       // iteration matrix M - h theta C - h^2 theta^2 K
   Eigen::MatrixXd iteration_inverse;  // Ŵ = A^-1 (planar-projected)
   Eigen::MatrixXd mass_inverse;       // M^-1 (planar-projected): Ŵ without stiff elements
