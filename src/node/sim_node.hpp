@@ -1,4 +1,5 @@
-// The ROS node around one simulator (sim_node.cpp): topics, services, pacing.
+// The ROS node around one simulator (sim_node.cpp): wires the session (the shared
+// simulator), its publishers, its services and its stepping loop.
 #pragma once
 
 #include <memory>
