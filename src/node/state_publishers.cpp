@@ -126,8 +126,8 @@ void StatePublishers::publish() {
       StatusText text;
       text.position = overlay_.position;
       text.height = overlay_.height;
-      buildStatusMarker(t, status_rtf_, style_, status_names_, status_values_, text, stamp,
-                        status_msg_);
+      buildStatusMarker(t, status_rtf_, session_.paused(), style_, status_names_, status_values_,
+                        text, stamp, status_msg_);
     }
     if (want_key_figures) {
       key_figures_msg_.header.stamp = stamp;
