@@ -24,9 +24,9 @@ namespace nscd_node {
 
 void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
                 const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
-                const StatusOverlay& overlay) {
+                const std::vector<CommandRateLimit>& rate_limits, const StatusOverlay& overlay) {
   EventTracker events = eventTracker(pnh, options, sim->model());
-  SimSession session(std::move(sim), schedules, std::move(events), options.start_paused);
+  SimSession session(std::move(sim), schedules, rate_limits, std::move(events), options.start_paused);
   const nscd::Model& model = session.sim().model();
   for (const EventDefinition& d : session.events().definitions())
     ROS_INFO("nscd_sim_node: event '%s' shown when its condition holds (%zu figure%s %s %g)",
@@ -48,6 +48,9 @@ void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd:
              "arrives on %s",
              b.schedule.actuator.c_str(), b.schedule.points.size(),
              pnh.resolveName(b.schedule.actuator + "/command").c_str());
+  for (const CommandRateLimit& l : rate_limits)
+    ROS_INFO("nscd_sim_node: actuator '%s' follows its topic commands at most %g per second of sim time",
+             model.actuators[l.actuator].name.c_str(), l.rate);
 
   ros::AsyncSpinner spinner(1);
   spinner.start();

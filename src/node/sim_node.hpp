@@ -17,6 +17,6 @@ namespace nscd_node {
 // publishing loop until ROS shuts down.
 void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
                 const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
-                const StatusOverlay& overlay);
+                const std::vector<CommandRateLimit>& rate_limits, const StatusOverlay& overlay);
 
 }  // namespace nscd_node

@@ -2,6 +2,7 @@
 #include "sim_session.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -10,10 +11,12 @@
 namespace nscd_node {
 
 SimSession::SimSession(std::unique_ptr<nscd::Simulator> sim,
-                       const std::vector<nscd::BoundSchedule>& schedules, EventTracker events,
+                       const std::vector<nscd::BoundSchedule>& schedules,
+                       const std::vector<CommandRateLimit>& rate_limits, EventTracker events,
                        bool start_paused)
     : sim_(std::move(sim)), events_(std::move(events)) {
   for (const nscd::BoundSchedule& b : schedules) schedules_.push_back({b.actuator, b.schedule, true});
+  for (const CommandRateLimit& l : rate_limits) slewed_.push_back({l, false, 0.0});
   paused_ = start_paused;
   updateRunning();
   restartSchedules();
@@ -52,6 +55,12 @@ void SimSession::step() {
   // As nscd_run: the command at the end of the step.
   for (const ScheduledCommand& c : schedules_)
     if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t0 + sim_->model().settings.dt));
+  for (const SlewedCommand& c : slewed_)
+    if (c.active) {
+      const double now = sim_->command(c.limit.actuator);
+      const double most = c.limit.rate * sim_->model().settings.dt;
+      sim_->setCommand(c.limit.actuator, now + std::clamp(c.target - now, -most, most));
+    }
   const nscd::StepStatus status = sim_->step();
   const nscd::StepStats& st = sim_->stats();
   ++steps_;
@@ -90,7 +99,18 @@ void SimSession::step() {
 
 SimSession::CommandResult SimSession::command(int actuator, double value) {
   CommandResult r;
-  r.accepted = sim_->setCommand(actuator, value);
+  SlewedCommand* slewed = nullptr;
+  for (SlewedCommand& c : slewed_)
+    if (c.limit.actuator == actuator) slewed = &c;
+  if (slewed) {
+    r.accepted = std::isfinite(value);
+    if (r.accepted) {
+      slewed->active = true;
+      slewed->target = value;
+    }
+  } else {
+    r.accepted = sim_->setCommand(actuator, value);
+  }
   if (!r.accepted) return r;
   for (ScheduledCommand& c : schedules_)
     if (c.actuator == actuator && c.active) {
@@ -104,6 +124,7 @@ void SimSession::reset() {
   sim_->reset();
   events_.reset();
   restartSchedules();
+  for (SlewedCommand& c : slewed_) c.active = false;
   steps_ = 0;
   window_.unconverged_total = 0;
   window_.halved_total = 0;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "node_params.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "ros_conversions.hpp"
@@ -33,7 +34,7 @@ struct LoopRequests {
 class SimSession {
  public:
   SimSession(std::unique_ptr<nscd::Simulator> sim, const std::vector<nscd::BoundSchedule>& schedules,
-             EventTracker events, bool start_paused);
+             const std::vector<CommandRateLimit>& rate_limits, EventTracker events, bool start_paused);
 
   // Callbacks lock through this: the stepping loop, which retakes the lock after
   // every step, lets a waiting callback in first (std::mutex is not fair).
@@ -49,11 +50,13 @@ class SimSession {
 
   // ---- The rest requires the lock.
   const nscd::Simulator& sim() const { return *sim_; }
-  // One step, paused or not (~step). A failed step (non-finite state) stops the
+  // One step, paused or not (~step): the schedules' commands at the step's end and
+  // the rate-limited ones moved towards their targets first. A failed step (non-finite state) stops the
   // stepping until reset() and asks for diagnostics.
   void step();
-  // A topic command. `accepted`: the simulator took it (a finite value);
-  // `took_over`: it ended the actuator's schedule (until reset()).
+  // A topic command. `accepted`: a finite value, which the simulator takes at once,
+  // or, for a rate-limited actuator, the target its command moves to from the next
+  // step on; `took_over`: it ended the actuator's schedule (until reset()).
   struct CommandResult {
     bool accepted = false;
     bool took_over = false;
@@ -89,9 +92,17 @@ class SimSession {
     bool active = true;
   };
 
+  // A rate-limited actuator and the topic command it moves towards.
+  struct SlewedCommand {
+    CommandRateLimit limit;
+    bool active = false;  // a topic command arrived since start or reset
+    double target = 0;
+  };
+
   std::unique_ptr<nscd::Simulator> sim_;
   std::mutex mutex_;
   std::vector<ScheduledCommand> schedules_;
+  std::vector<SlewedCommand> slewed_;
   EventTracker events_;
   std::atomic<bool> paused_{false};
   std::atomic<bool> failed_{false};
