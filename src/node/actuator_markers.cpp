@@ -69,8 +69,8 @@ ActuatorMarkersOptions readActuatorMarkersOptions(const ros::NodeHandle& pnh) {
   if (pnh.getParam("text_size", v) && !(number(v, o.text_size) && o.text_size > 0))
     throw nscd::SceneError("parameter " + pnh.resolveName("text_size") + ": expected a positive number (m)");
   const std::string where = "parameter " + pnh.resolveName("actuators");
-  const std::string form = "expected {NAME: {min: MIN, max: MAX}, ...}, optionally with scale (m) "
-                           "and figures (key-figure names)";
+  const std::string form = "expected {NAME: {min: MIN, max: MAX}, ...}, optionally with scale (m), "
+                           "figures (key-figure names) and text_offset ([RIGHT, UP], m)";
   if (!pnh.getParam("actuators", v) || v.getType() != XmlRpc::XmlRpcValue::TypeStruct || v.size() == 0)
     throw nscd::SceneError(where + ": " + form);
   for (auto it = v.begin(); it != v.end(); ++it) {
@@ -86,6 +86,14 @@ ActuatorMarkersOptions readActuatorMarkersOptions(const ros::NodeHandle& pnh) {
                              ", " + std::to_string(c.range.max) + "]");
     if (e.hasMember("scale") && !(number(e["scale"], c.scale) && c.scale > 0))
       throw nscd::SceneError(at + "/scale: expected a positive number (m)");
+    if (e.hasMember("text_offset")) {
+      XmlRpc::XmlRpcValue& t = e["text_offset"];
+      double right = NAN, up = NAN;
+      if (t.getType() != XmlRpc::XmlRpcValue::TypeArray || t.size() != 2 || !number(t[0], right) ||
+          !number(t[1], up))
+        throw nscd::SceneError(at + "/text_offset: expected [RIGHT, UP] (m on the screen from the marker)");
+      c.text_offset = {right, up};
+    }
     if (e.hasMember("figures")) {
       XmlRpc::XmlRpcValue& f = e["figures"];
       if (f.getType() != XmlRpc::XmlRpcValue::TypeArray)
@@ -158,16 +166,54 @@ InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const 
   im.scale = s;
   im.pose = toPose(m.handle.poseAt(command));
 
-  InteractiveMarkerControl drag;  // no markers: RViz draws its default ring or arrows
-  drag.name = m.handle.motion == ActuatorHandle::Motion::Rotate ? "rotate" : "slide";
-  drag.interaction_mode = m.handle.motion == ActuatorHandle::Motion::Rotate
-                              ? InteractiveMarkerControl::ROTATE_AXIS
-                              : InteractiveMarkerControl::MOVE_AXIS;
+  // What the mouse grabs: a thin ring about the axis (RViz's default is a broad disc
+  // that hides the part) or two arrows along it, translucent orange.
+  const bool rotate = m.handle.motion == ActuatorHandle::Motion::Rotate;
+  InteractiveMarkerControl drag;
+  drag.name = rotate ? "rotate" : "slide";
+  drag.interaction_mode = rotate ? InteractiveMarkerControl::ROTATE_AXIS : InteractiveMarkerControl::MOVE_AXIS;
   drag.orientation_mode = InteractiveMarkerControl::INHERIT;
   drag.always_visible = true;
+  const std_msgs::ColorRGBA grip = rgba(1.0f, 0.55f, 0.0f, 0.7f);
+  if (rotate) {
+    visualization_msgs::Marker ring;  // an annulus in the marker's y-z plane (x is the axis)
+    ring.type = visualization_msgs::Marker::TRIANGLE_LIST;
+    ring.scale.x = ring.scale.y = ring.scale.z = 1;
+    ring.pose.orientation.w = 1;
+    ring.color = grip;
+    const double r0 = 0.44 * s, r1 = 0.5 * s;
+    constexpr int kSegments = 48;
+    auto at = [](double r, double a) {
+      geometry_msgs::Point p;
+      p.y = r * std::cos(a);
+      p.z = r * std::sin(a);
+      return p;
+    };
+    for (int k = 0; k < kSegments; ++k) {
+      const double a0 = 2 * M_PI * k / kSegments, a1 = 2 * M_PI * (k + 1) / kSegments;
+      for (const geometry_msgs::Point& p : {at(r0, a0), at(r1, a0), at(r1, a1), at(r0, a0), at(r1, a1), at(r0, a1)})
+        ring.points.push_back(p);
+    }
+    drag.markers.push_back(ring);
+  } else {
+    for (double side : {1.0, -1.0}) {  // arrows pointing both ways along x, off the centre
+      visualization_msgs::Marker arrow;
+      arrow.type = visualization_msgs::Marker::ARROW;
+      geometry_msgs::Point a, b;
+      a.x = side * 0.15 * s;
+      b.x = side * 0.55 * s;
+      arrow.points = {a, b};
+      arrow.scale.x = 0.08 * s;
+      arrow.scale.y = 0.18 * s;
+      arrow.scale.z = 0.15 * s;
+      arrow.pose.orientation.w = 1;
+      arrow.color = grip;
+      drag.markers.push_back(arrow);
+    }
+  }
   im.controls.push_back(drag);
 
-  if (m.handle.motion == ActuatorHandle::Motion::Rotate) {
+  if (rotate) {
     // The commanded lever: from the pivot towards the driven body, turning with the command.
     InteractiveMarkerControl lever;
     lever.name = "lever";
@@ -188,21 +234,32 @@ InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const 
     im.controls.push_back(lever);
   }
 
-  // The text: command, effort, figures; facing the viewer, above the marker.
+  // The text: command, then effort and figures; facing the viewer, above the marker.
+  // One marker per line: RViz spaces the lines of one text marker several heights apart.
   InteractiveMarkerControl label;
   label.name = "text";
   label.interaction_mode = InteractiveMarkerControl::NONE;
   label.orientation_mode = InteractiveMarkerControl::VIEW_FACING;
   label.always_visible = true;
-  visualization_msgs::Marker t;
-  t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
   const double h = text_size_ > 0 ? text_size_ : 0.12 * s;
-  t.scale.x = t.scale.y = t.scale.z = h;
-  t.pose.position.z = 0.6 * s + 1.5 * h;
-  t.pose.orientation.w = 1;
-  t.color = rgba(1.0f, 0.8f, 0.3f, 1.0f);
-  t.text = m.shown_text;
-  label.markers.push_back(t);
+  size_t start = 0;
+  for (int line = 0; start <= m.shown_text.size(); ++line) {
+    const size_t end = std::min(m.shown_text.find('\n', start), m.shown_text.size());
+    visualization_msgs::Marker t;
+    t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    t.scale.x = t.scale.y = t.scale.z = h;
+    // In a view-facing control y is left and z up on the screen; the lines go down
+    // from the first, which stands at the offset (default: centred above the marker).
+    const double right = m.config.text_offset.empty() ? 0.0 : m.config.text_offset[0];
+    const double up = m.config.text_offset.empty() ? 0.55 * s + 2.1 * h : m.config.text_offset[1];
+    t.pose.position.y = -right;
+    t.pose.position.z = up - 1.4 * h * line;
+    t.pose.orientation.w = 1;
+    t.color = rgba(1.0f, 0.8f, 0.3f, 1.0f);
+    t.text = m.shown_text.substr(start, end - start);
+    label.markers.push_back(t);
+    start = end + 1;
+  }
   im.controls.push_back(label);
   return im;
 }
@@ -219,12 +276,12 @@ std::string ActuatorMarkers::text(const Marker& m) const {
     s += buf;
   }
   if (std::isfinite(m.effort)) {
-    std::snprintf(buf, sizeof buf, "\neffort %.4g %s", m.effort, m.effort_unit.c_str());
+    std::snprintf(buf, sizeof buf, "\neffort %.3g %s", m.effort, m.effort_unit.c_str());
     s += buf;
   }
   for (size_t k = 0; k < m.config.figures.size(); ++k) {
     if (!std::isfinite(m.figure_values[k])) continue;
-    std::snprintf(buf, sizeof buf, "   %s %.4g", m.config.figures[k].c_str(), m.figure_values[k]);
+    std::snprintf(buf, sizeof buf, "   %s %.3g", m.config.figures[k].c_str(), m.figure_values[k]);
     s += buf;
   }
   return s;

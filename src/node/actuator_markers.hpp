@@ -29,6 +29,9 @@ struct ActuatorMarkerConfig {
   CommandRange range;
   double scale = 0;                  // marker size (m); 0: from the scene
   std::vector<std::string> figures;  // key figures shown under the command and effort
+  // Where the text's first line is centred, from the marker on the screen (m, right
+  // and up); empty: above the marker.
+  std::vector<double> text_offset;
 };
 
 // The node's parameters (~actuators, ~sim_node, ~text_size). Throws nscd::SceneError.

@@ -173,9 +173,12 @@ const InteractiveMarkerControl* control(const InteractiveMarker& m, const std::s
   return nullptr;
 }
 
+// The marker's text, its lines (one text marker each) joined by newlines.
 std::string text(const InteractiveMarker& m) {
   const InteractiveMarkerControl* c = control(m, "text");
-  return c && !c->markers.empty() ? c->markers[0].text : std::string();
+  std::string s;
+  for (size_t i = 0; c && i < c->markers.size(); ++i) s += (i ? "\n" : "") + c->markers[i].text;
+  return s;
 }
 
 // The marker `name` as last published once it satisfies `pred` (null on timeout).
@@ -291,6 +294,13 @@ TEST(ActuatorMarkers, StandAtTheActuatedBodies) {
   ASSERT_TRUE(control(*probe, "slide"));
   EXPECT_EQ(control(*probe, "slide")->interaction_mode, InteractiveMarkerControl::MOVE_AXIS);
   EXPECT_EQ(text(*handle).rfind("handle 0.000 rad", 0), 0u) << text(*handle);
+  // The text of config/c60_actuator_markers.yaml's text_offset [-0.016, 0]: 16 mm left
+  // of the pivot on the screen, which is +y in a view-facing control (seen in RViz).
+  const InteractiveMarkerControl* label = control(*handle, "text");
+  ASSERT_TRUE(label && !label->markers.empty());
+  EXPECT_EQ(label->orientation_mode, InteractiveMarkerControl::VIEW_FACING);
+  EXPECT_NEAR(label->markers[0].pose.position.y, 0.016, 1e-12);
+  EXPECT_NEAR(label->markers[0].pose.position.z, 0.0, 1e-12);
   EXPECT_EQ(text(*probe).rfind("probe 0.000 mm", 0), 0u) << text(*probe);
 }
 
@@ -347,9 +357,12 @@ TEST(ActuatorMarkers, HandleDraggedToOffOpensC7) {
   const double c7 = figureAt("C7.fn", open->sim_time);
   ASSERT_TRUE(std::isfinite(effort) && std::isfinite(c7));
   char want[160];
-  std::snprintf(want, sizeof want, "handle 1.200 rad\neffort %.4g N m   C7.fn %.4g", effort, c7);
+  std::snprintf(want, sizeof want, "handle 1.200 rad\neffort %.3g N m   C7.fn %.3g", effort, c7);
   auto shown = waitMarker("handle", [&](const InteractiveMarker& m) { return text(m) == want; });
-  EXPECT_TRUE(shown) << "no handle text \"" << want << "\"";
+  ASSERT_TRUE(shown) << "no handle text \"" << want << "\"";
+  const InteractiveMarkerControl* lines = control(*shown, "text");
+  ASSERT_TRUE(lines && lines->markers.size() == 2u);
+  EXPECT_LT(lines->markers[1].pose.position.z, lines->markers[0].pose.position.z) << "lines go down";
 }
 
 // Past the range: the command is clipped to it, with one warning per excursion; the
