@@ -34,6 +34,7 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # message packages those tools load for every type the node publishes or serves.
   # Off-screen recording: Xvfb, xwininfo, ffmpeg. Plots: matplotlib. bc: c60_bench.sh.
   # The RViz panel plugin: librviz-dev, qtbase5-dev (Qt5 Widgets, moc); its test: xvfb.
+  # nscd_actuator_markers (drag the C-60 handle and probe in RViz): libinteractive-markers-dev.
   # The Python module (docs/python.md): pybind11-dev, python3-dev, python3-setuptools
   # (setup.py for catkin_python_setup); its tests: python3-pytest; studies on a Dask
   # cluster: python3-distributed.
@@ -43,7 +44,7 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     python3-rosparam python3-rosmsg rospack-tools \
     python3-std-msgs python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs \
     python3-tf2-msgs python3-rosgraph-msgs python3-sensor-msgs python3-visualization-msgs \
-    rviz librviz-dev qtbase5-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
+    rviz librviz-dev qtbase5-dev libinteractive-markers-dev libtf2-ros-dev liburdfdom-dev liburdf-dev ros-visualization-msgs libsensor-msgs-dev \
     libeigen3-dev libtinyxml2-dev libyaml-cpp-dev libcli11-dev \
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
     xvfb xauth x11-utils ffmpeg bc \

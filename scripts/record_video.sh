@@ -20,6 +20,11 @@
 #         --stills T1,T2,...  no video: step the paused simulation (~step, 20 steps
 #                           at a time, so plots fill in) to each sim time T (s) and
 #                           write a PNG of the screen there: <output without .mp4>_<T in ms>ms.png
+#         --launch FILE     launch file of the package instead of sim.launch (it takes
+#                           the same arguments: scene, config, rviz, rviz_config), e.g. c60.launch
+#         --drive PROGRAM   no video: once RViz is up and the node paused, run PROGRAM
+#                           OUTPUT_PREFIX WxH DISPLAY (it drives the scene and grabs the
+#                           screen itself; scripts/c60_drag.py) and exit with its status
 #     -h, --help
 # The package must be built: with NSCD_WS (default <repo>/.build/ws, what
 # scripts/build.sh makes) or an environment where `rospack find nscd_sim` works.
@@ -33,8 +38,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/.." && pwd)
 
 scene="" duration=5 output="" png="" snapshot_at="" config="" rviz="" rtf=""
-size=1280x720 fps=15 panels=0 keep="" stills=""
-usage() { sed -n '2,28p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+size=1280x720 fps=15 panels=0 keep="" stills="" launch=sim.launch drive=""
+usage() { sed -n '2,33p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     -s|--scene) scene=$2; shift 2 ;;
@@ -50,6 +55,8 @@ while [ $# -gt 0 ]; do
     --panels) panels=1; shift ;;
     --keep-panel) keep="$keep|$2"; shift 2 ;;
     --stills) stills=$2; shift 2 ;;
+    --launch) launch=$2; shift 2 ;;
+    --drive) drive=$(realpath "$2"); shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "record_video.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -136,7 +143,7 @@ awk -v only_time="$((1 - panels))" -v w="$width" -v h="$height" -v keep="${keep#
   /^  Height: / { print "  Height: " h; next }
   /^  Width: / { print "  Width: " w; next }
   !skip' "$rviz" > "$tmp/record.rviz"
-setsid roslaunch -p "$port" nscd_sim sim.launch scene:="$scene" config:="$tmp/node.yaml" \
+setsid roslaunch -p "$port" nscd_sim "$launch" scene:="$scene" config:="$tmp/node.yaml" \
   rviz_config:="$tmp/record.rviz" rviz:=true >"$tmp/launch.log" 2>&1 &
 launch_pid=$!
 
@@ -150,7 +157,13 @@ rosservice call --wait /nscd_sim_node/pause "data: true" >/dev/null
 sleep 2  # RViz loads the robot model and receives the first transforms
 launch_tree=$(descendants "$launch_pid")
 
-# 3a. Stills: step to each sim time, let RViz draw, grab the screen.
+# 3a. A driver program does the rest.
+if [ -n "$drive" ]; then
+  "$drive" "${output%.*}" "${width}x${height}" "$DISPLAY"
+  exit $?
+fi
+
+# 3b. Stills: step to each sim time, let RViz draw, grab the screen.
 if [ -n "$stills" ]; then
   /usr/bin/python3 - "$stills" "${output%.*}" "${width}x${height}" "$DISPLAY" <<'PY'
 import subprocess, sys, time

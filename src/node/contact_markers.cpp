@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "label_layout.hpp"
 #include "ros_conversions.hpp"
 
 namespace nscd_node {
@@ -54,7 +55,7 @@ bool makeArrow(const MarkerStyle& style, const ros::Time& stamp, const char* ns,
 
 }  // namespace
 
-void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
+void buildStatusMarker(double sim_time, double rtf, bool paused, const MarkerStyle& style,
                        const std::vector<std::string>& names, const std::vector<double>& values,
                        const StatusText& text, const ros::Time& stamp,
                        visualization_msgs::Marker& out) {
@@ -66,7 +67,8 @@ void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
   out.color.r = out.color.g = out.color.b = out.color.a = 1.0f;
   char buf[160];
   // Two lines: RViz spaces the lines of a text marker widely.
-  std::snprintf(buf, sizeof buf, "t = %.3f ms   rtf %.3g", 1e3 * sim_time, rtf);
+  if (paused) std::snprintf(buf, sizeof buf, "t = %.3f ms   paused", 1e3 * sim_time);
+  else std::snprintf(buf, sizeof buf, "t = %.3f ms   rtf %.3g", 1e3 * sim_time, rtf);
   std::string s = buf;
   if (style.force_scale > 0) {
     std::snprintf(buf, sizeof buf, "   arrows: 1 mm = %.3g N", 1e-3 / style.force_scale);
@@ -133,6 +135,15 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
     out.markers.push_back(t);
   };
 
+  // Labels are laid out so that they neither overlap each other nor cover a ring
+  // (bearings close together, as the C-60's J3-J6 or the concentric J2/J7/S3, would
+  // otherwise pile their labels up).
+  LabelLayout layout(label_h);
+  if (style.labels)
+    for (const EccentricityView& v : clearance)
+      if (!(v.journal_radius > 0 && !(v.radial < v.journal_radius)))
+        layout.addRing(lifted(v.center), v.radial * style.ecc_scale);
+
   // Per named source, the point with the largest normal force (its label's place).
   std::vector<int> strongest_pair(names.contacts.size(), -1);
   Marker m;
@@ -163,9 +174,19 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
         if (!c.clearance && c.source == static_cast<int>(p)) fn += c.fn;
       const nscd::ContactReport& c = contacts[strongest_pair[p]];
       std::snprintf(buf, sizeof buf, " %.2f N", fn);
-      // Beyond the arrow's tip, so the text does not hide the arrow.
-      const nscd::Vec3 at = c.point + style.force_scale * c.fn * c.normal + 0.7 * label_h * c.normal;
-      label("contact_label", static_cast<int>(p), at, names.contacts[p] + buf, white);
+      const std::string text = names.contacts[p] + buf;
+      // Beyond the arrow's tip, so the text does not hide the arrow; further out along
+      // the arrow, or beside its tip, when that place is taken.
+      const nscd::Vec3 tip = c.point + style.force_scale * c.fn * c.normal;
+      std::vector<nscd::Vec3> at;
+      for (int k = 0; k < 4; ++k) at.push_back(lifted(tip + (0.7 + 1.3 * k) * label_h * c.normal));
+      const nscd::Vec3 side = c.normal.cross(nscd::Vec3::UnitZ());
+      if (side.norm() > 1e-6) {
+        const double off = labelBox(text, label_h).half_width + 0.7 * label_h;
+        at.push_back(lifted(tip + off * side.normalized()));
+        at.push_back(lifted(tip - off * side.normalized()));
+      }
+      label("contact_label", static_cast<int>(p), layout.place(text, at), text, white);
     }
   }
 
@@ -213,10 +234,12 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
       char buf[80] = "";
       int n = v.fn > 0 ? std::snprintf(buf, sizeof buf, " %.2f N", v.fn) : 0;
       if (v.ecc > kMaxDrawnEcc) std::snprintf(buf + n, sizeof buf - n, " (e = %.3g c_r)", v.ecc);
-      // Outside the ring, opposite the eccentricity (the arrow side stays free).
+      // Outside the ring, preferably opposite the eccentricity (the arrow side stays
+      // free), else turned round the ring or further out, where no label is yet.
       const nscd::Vec3 side = v.ecc > 0.05 ? nscd::Vec3(-dir) : nscd::Vec3(-e2);
-      label("clearance_label", id, center + (radius + 1.2 * label_h) * side, v.name + buf,
-            v.fn > 0 ? magenta : cyan);
+      const std::string text = v.name + buf;
+      label("clearance_label", id, layout.place(text, layout.aroundRing(center, radius, v.ref, e2, side, text)),
+            text, v.fn > 0 ? magenta : cyan);
     }
   }
 }

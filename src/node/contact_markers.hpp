@@ -76,13 +76,14 @@ struct EventLabel {
 };
 
 // The status line drawn in the 3D view (~status, a TEXT_VIEW_FACING marker):
-// sim time to the microsecond, the real-time factor reached, the arrow scale
-// in newtons per millimetre of arrow, and chosen key figures ("C7.fn 13.2").
+// sim time to the microsecond, the real-time factor reached ("paused" while the
+// node is paused: its rtf is then 0), the arrow scale in newtons per millimetre of
+// arrow, and chosen key figures ("C7.fn 13.2").
 struct StatusText {
   nscd::Vec3 position = nscd::Vec3::Zero();  // world frame
   double height = 0.01;                       // m
 };
-void buildStatusMarker(double sim_time, double rtf, const MarkerStyle& style,
+void buildStatusMarker(double sim_time, double rtf, bool paused, const MarkerStyle& style,
                        const std::vector<std::string>& names, const std::vector<double>& values,
                        const StatusText& text, const ros::Time& stamp,
                        visualization_msgs::Marker& out);

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<nscd::Simulator> sim;
   nscd_node::NodeOptions options;
   std::vector<nscd::BoundSchedule> schedules;
+  std::vector<nscd_node::CommandRateLimit> rate_limits;
   nscd_node::StatusOverlay overlay;
   try {
     options = nscd_node::readNodeOptions(pnh);
@@ -28,12 +29,13 @@ int main(int argc, char** argv) {
     // The engine's assembly errors already name the scene file.
     sim = std::make_unique<nscd::Simulator>(std::move(model));
     schedules = nscd_node::bindSchedules(pnh, options.schedules, sim->model());
+    rate_limits = nscd_node::bindCommandRateLimits(pnh, options, sim->model());
     overlay = nscd_node::statusOverlay(pnh, options, sim->model());
   } catch (const std::exception& e) {
     ROS_FATAL("%s", e.what());
     return 2;
   }
   nscd_node::warnUnknownParams(pnh);
-  nscd_node::runSimNode(nh, pnh, std::move(sim), options, schedules, overlay);
+  nscd_node::runSimNode(nh, pnh, std::move(sim), options, schedules, rate_limits, overlay);
   return 0;
 }

@@ -94,7 +94,8 @@ const std::vector<std::string>& nodeParamKeys() {
   static const std::vector<std::string> keys = {
       "scene", "real_time_factor", "publish_rate", "diagnostics_rate", "start_paused",
       "force_scale", "marker_size", "ecc_scale", "schedule", "overlay_figures",
-      "overlay_position", "overlay_size", "contact_labels", "label_size", "marker_z", "events"};
+      "overlay_position", "overlay_size", "contact_labels", "label_size", "marker_z", "events",
+      "command_rate_limit"};
   return keys;
 }
 
@@ -179,6 +180,20 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
                              ": expected 3 numbers [x, y, z] (m, world frame)");
   }
   XmlRpc::XmlRpcValue v;
+  if (pnh.getParam("command_rate_limit", v)) {
+    const std::string where = "parameter " + pnh.resolveName("command_rate_limit");
+    if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+      throw nscd::SceneError(where + ": expected {ACTUATOR: RATE, ...} (command units per second)");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      XmlRpc::XmlRpcValue& r = it->second;
+      double rate = NAN;
+      if (r.getType() == XmlRpc::XmlRpcValue::TypeDouble) rate = static_cast<double>(r);
+      else if (r.getType() == XmlRpc::XmlRpcValue::TypeInt) rate = static_cast<int>(r);
+      if (!(std::isfinite(rate) && rate > 0))
+        throw nscd::SceneError(where + "/" + it->first + ": expected a positive number (command units per second)");
+      o.command_rate_limits.emplace_back(it->first, rate);
+    }
+  }
   if (pnh.getParam("schedule", v)) {
     const std::string where = "parameter " + pnh.resolveName("schedule");
     if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
@@ -237,6 +252,19 @@ std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,
   } catch (const std::invalid_argument& e) {
     throw nscd::SceneError("parameter " + pnh.resolveName("schedule") + ": " + e.what());
   }
+}
+
+std::vector<CommandRateLimit> bindCommandRateLimits(const ros::NodeHandle& pnh, const NodeOptions& o,
+                                                    const nscd::Model& model) {
+  std::vector<CommandRateLimit> limits;
+  for (const auto& [name, rate] : o.command_rate_limits) {
+    const int a = model.findActuator(name);
+    if (a < 0)
+      throw nscd::SceneError("parameter " + pnh.resolveName("command_rate_limit") + ": no actuator '" +
+                             name + "' in " + model.source_file);
+    limits.push_back({a, rate});
+  }
+  return limits;
 }
 
 void warnUnknownParams(const ros::NodeHandle& pnh) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ros/ros.h>
@@ -31,6 +32,9 @@ struct NodeOptions {
   std::vector<double> overlay_position;  // empty: default
   double overlay_size = 0;               // 0: default
   std::vector<std::string> events;       // ~events definitions (run_events.hpp)
+  // ~command_rate_limit {NAME: RATE}: the fastest a topic command is followed
+  // (command units per second of sim time).
+  std::vector<std::pair<std::string, double>> command_rate_limits;
 };
 
 // The node's own parameter names (the simulation settings come on top).
@@ -66,6 +70,19 @@ void readDisplayParams(const ros::NodeHandle& pnh, MarkerStyle& style, std::vect
 std::vector<nscd::BoundSchedule> bindSchedules(const ros::NodeHandle& pnh,
                                                const std::vector<std::string>& texts,
                                                const nscd::Model& model);
+
+// A topic command followed at a bounded rate: each step the actuator's command
+// moves towards the last topic command by at most rate * dt. (A command that
+// jumps moves a prescribed body by the jump within one step, at jump / dt.)
+struct CommandRateLimit {
+  int actuator = -1;
+  double rate = 0;  // command units per second of sim time, > 0
+};
+
+// The ~command_rate_limit entries bound to the model's actuators. Throws
+// nscd::SceneError naming an unknown actuator.
+std::vector<CommandRateLimit> bindCommandRateLimits(const ros::NodeHandle& pnh, const NodeOptions& o,
+                                                    const nscd::Model& model);
 
 // Typos in parameter names would otherwise pass silently: one warning each.
 void warnUnknownParams(const ros::NodeHandle& pnh);

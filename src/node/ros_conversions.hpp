@@ -22,6 +22,12 @@ geometry_msgs::Point toPoint(const nscd::Vec3& v);
 geometry_msgs::Vector3 toVector3(const nscd::Vec3& v);
 geometry_msgs::Transform toTransform(const nscd::Pose& pose);
 
+// The stamp of a message about sim time `sim_t`: that time with /use_sim_time,
+// else the wall clock's now.
+inline ros::Time stampFor(bool use_sim_time, double sim_t) {
+  return use_sim_time ? ros::Time(sim_t) : ros::Time::now();
+}
+
 // Link (tf frame) name of a body; the world frame for ground.
 const std::string& bodyLinkName(const nscd::Model& model, int body);
 // The named contact or clearance joint a report belongs to.

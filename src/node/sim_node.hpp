@@ -1,4 +1,5 @@
-// The ROS node around one simulator (sim_node.cpp): topics, services, pacing.
+// The ROS node around one simulator (sim_node.cpp): wires the session (the shared
+// simulator), its publishers, its services and its stepping loop.
 #pragma once
 
 #include <memory>
@@ -16,6 +17,6 @@ namespace nscd_node {
 // publishing loop until ROS shuts down.
 void runSimNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::unique_ptr<nscd::Simulator> sim,
                 const NodeOptions& options, const std::vector<nscd::BoundSchedule>& schedules,
-                const StatusOverlay& overlay);
+                const std::vector<CommandRateLimit>& rate_limits, const StatusOverlay& overlay);
 
 }  // namespace nscd_node

@@ -23,7 +23,8 @@ struct RunResult {
 
 // Runs the node with extra ROS arguments (a fresh __name each time: private
 // parameters given as _key:=value stay on the master); kills it after `timeout` seconds.
-RunResult runNode(const std::vector<std::string>& args, double timeout = 15.0) {
+RunResult runNode(const std::vector<std::string>& args, double timeout = 15.0,
+                  const char* exe = NSCD_NODE_EXE) {
   int fds[2];
   if (pipe(fds) != 0) return {};
   const pid_t pid = fork();
@@ -33,10 +34,10 @@ RunResult runNode(const std::vector<std::string>& args, double timeout = 15.0) {
     close(fds[0]);
     close(fds[1]);
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(NSCD_NODE_EXE));
+    argv.push_back(const_cast<char*>(exe));
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    execv(NSCD_NODE_EXE, argv.data());
+    execv(exe, argv.data());
     _exit(127);
   }
   close(fds[1]);
@@ -148,6 +149,54 @@ TEST(BadScene, BadScheduleExits) {
   r = runNode({"__name:=bad_schedule_text", pendulum, "_schedule:=hinge_motor=0:0,oops"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("schedule"), std::string::npos) << r.output;
+}
+
+// ~command_rate_limit naming an actuator the scene does not have, or a rate that is
+// not a positive number.
+TEST(BadScene, BadCommandRateLimitExits) {
+  const std::string pendulum = "_scene:=" + kSource + "/test/ros/actuated_pendulum.urdf";
+  XmlRpc::XmlRpcValue limits;
+  limits["nosuch"] = 0.2;
+  ros::param::set("/bad_rate_name/command_rate_limit", limits);
+  RunResult r = runNode({"__name:=bad_rate_name", pendulum});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("command_rate_limit: no actuator 'nosuch'"), std::string::npos) << r.output;
+  limits.clear();
+  limits["hinge_motor"] = -1.0;
+  ros::param::set("/bad_rate_value/command_rate_limit", limits);
+  r = runNode({"__name:=bad_rate_value", pendulum});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("command_rate_limit/hinge_motor: expected a positive number"), std::string::npos)
+      << r.output;
+}
+
+// nscd_actuator_markers refuses what it cannot drive, with one FATAL line and exit 2:
+// no ~actuators, an unknown actuator, a torque actuator, an empty range.
+TEST(BadScene, ActuatorMarkersRefuseBadParameters) {
+  const std::string c60 = "_scene:=" + kSource + "/urdf/c60.urdf";
+  auto run = [&](const std::string& name, const char* actuator, double min, double max) {
+    if (actuator) {
+      XmlRpc::XmlRpcValue range, actuators;
+      range["min"] = min;
+      range["max"] = max;
+      actuators[actuator] = range;
+      ros::param::set("/" + name + "/actuators", actuators);
+    }
+    return runNode({"__name:=" + name, c60}, 15.0, NSCD_MARKERS_EXE);
+  };
+  RunResult r = run("markers_none", nullptr, 0, 0);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("actuators: expected {NAME: {min: MIN, max: MAX}"), std::string::npos) << r.output;
+  r = run("markers_unknown", "handel", 0, 1);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("no actuator 'handel'"), std::string::npos) << r.output;
+  r = run("markers_torque", "bar_seating", 0, 1);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("'bar_seating' is a torque actuator"), std::string::npos) << r.output;
+  r = run("markers_range", "handle", 1.3, 0);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("min must be below max"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("FATAL"), std::string::npos) << r.output;
 }
 
 int main(int argc, char** argv) {

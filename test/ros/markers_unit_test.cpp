@@ -1,10 +1,12 @@
 // Unit tests of the node's message building (no ROS master): contact and
 // clearance markers, contact messages, parameter strings.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "contact_markers.hpp"
+#include "label_layout.hpp"
 #include "ros_conversions.hpp"
 #include "run_events.hpp"
 
@@ -137,7 +139,7 @@ TEST(ContactMarkers, StatusTextShowsTimeScaleAndFigures) {
   text.position = nscd::Vec3(0.01, -0.02, 0.005);
   text.height = 0.002;
   visualization_msgs::Marker m;
-  nscd_node::buildStatusMarker(0.0051234, 0.001, style, {"C7.fn", "probe.effort"}, {13.25, 2.5}, text,
+  nscd_node::buildStatusMarker(0.0051234, 0.001, false, style, {"C7.fn", "probe.effort"}, {13.25, 2.5}, text,
                     ros::Time(1.0), m);
   EXPECT_EQ(m.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
   EXPECT_EQ(m.ns, "status");
@@ -149,6 +151,11 @@ TEST(ContactMarkers, StatusTextShowsTimeScaleAndFigures) {
   EXPECT_NE(m.text.find("C7.fn 13.250"), std::string::npos) << m.text;
   EXPECT_NE(m.text.find("probe.effort 2.500"), std::string::npos) << m.text;
   EXPECT_NE(m.text.find("eccentricity x50"), std::string::npos) << m.text;  // MarkerStyle's default
+  // Paused, the rtf (0 over the last period) gives way to "paused".
+  nscd_node::buildStatusMarker(0.0051234, 0.0, true, style, {"C7.fn"}, {13.25}, text, ros::Time(1.0), m);
+  EXPECT_NE(m.text.find("t = 5.123 ms   paused"), std::string::npos) << m.text;
+  EXPECT_EQ(m.text.find("rtf"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("1 mm = 3.33 N"), std::string::npos) << m.text;
 }
 
 // Labels: one per named contact with a force (its summed force, at the tip of its
@@ -198,8 +205,11 @@ TEST(ContactMarkers, LabelsNameContactsAndJointsAndMarkerZLifts) {
   const Marker* j4_label = find(a, "clearance_label", 0);
   ASSERT_TRUE(j4_label);
   EXPECT_EQ(j4_label->text, "J4 3.50 N");
-  // Opposite the eccentricity (+x), outside the magnified ring (1e-4 * 50 = 5 mm).
-  EXPECT_NEAR(j4_label->pose.position.x, -(0.005 + 1.2 * 0.002), 1e-12);
+  // Opposite the eccentricity (+x), its box just outside the magnified ring (1e-4 * 50
+  // = 5 mm), half a text height away.
+  EXPECT_NEAR(j4_label->pose.position.x,
+              -(0.005 + 0.5 * 0.002 + nscd_node::labelBox("J4 3.50 N", 0.002).half_width), 1e-12);
+  EXPECT_NEAR(j4_label->pose.position.y, 0.03, 1e-12);
   const Marker* arrow = find(a, "eccentricity", 0);
   ASSERT_TRUE(arrow);
   EXPECT_EQ(arrow->type, Marker::ARROW);
@@ -223,6 +233,74 @@ TEST(ContactMarkers, LabelsNameContactsAndJointsAndMarkerZLifts) {
   EXPECT_FALSE(find(a, "contact_label", 1));
   EXPECT_FALSE(find(a, "clearance_label", 0));
   EXPECT_DOUBLE_EQ(find(a, "eccentricity", 0)->points[0].z, 0.001);  // at the bearing
+}
+
+// Bearings as close as the C-60's (J3, J4, J6 a few mm apart, J2, J7 and S3 on one
+// axis; rings c_r x 40, labels 1.2 mm high, all in contact): no two labels overlap
+// and no label covers a ring (boxes of labelBox, checked here independently of the
+// layout's own sums), each stays within three text heights of its ring. Placed
+// opposite the eccentricity as before the layout, they would overlap.
+TEST(ContactMarkers, CrowdedBearingLabelsDoNotOverlap) {
+  nscd_node::MarkerStyle style;
+  style.labels = true;
+  style.label_size = 0.0012;
+  style.ecc_scale = 40;
+  style.have_marker_z = true;
+  style.marker_z = 0.03;
+  struct J { const char* name; double x, y, ring, angle; };
+  const J joints[] = {{"J1", -16.1, 10.0, 3.4, 2.9}, {"J2", 0, 0, 2.0, 0.3},     {"J3", 7.77, 7.64, 2.4, 0.1},
+                      {"J4", 7.0, -0.25, 2.4, 2.0},  {"J5", -11.66, 8.47, 1.8, -0.2}, {"J6", 4.87, 6.88, 1.8, 3.3},
+                      {"J7", 0, 0, 2.2, 1.0},        {"S3", 0, 0, 0.24, -2.5}};
+  std::vector<nscd_node::EccentricityView> views;
+  for (const J& j : joints) {
+    nscd_node::EccentricityView v;
+    v.center = {1e-3 * j.x, 1e-3 * j.y, 0.005};
+    v.radial = 1e-3 * j.ring / 40;
+    v.journal_radius = 1e-3;
+    v.ecc = 1;
+    v.angle = j.angle;
+    v.fn = 39.59;
+    v.name = j.name;
+    views.push_back(v);
+  }
+  MarkerArray a;
+  nscd_node::buildContactMarkers({}, views, style, ros::Time(), a);
+  const double h = style.label_size;
+  struct Placed { double x, y, hw, hh; };
+  std::vector<Placed> placed, before;
+  for (size_t i = 0; i < views.size(); ++i) {
+    const Marker* m = find(a, "clearance_label", static_cast<int>(i));
+    ASSERT_TRUE(m) << joints[i].name;
+    const nscd_node::LabelBox b = nscd_node::labelBox(m->text, h);
+    placed.push_back({m->pose.position.x, m->pose.position.y, b.half_width, b.half_height});
+    EXPECT_DOUBLE_EQ(m->pose.position.z, 0.03);
+    const double r = views[i].radial * style.ecc_scale;
+    const double reach = std::hypot(b.half_width, b.half_height);
+    EXPECT_LT(std::hypot(m->pose.position.x - views[i].center.x(), m->pose.position.y - views[i].center.y()),
+              r + 0.5 * h + reach + 3.0 * h + 1e-12) << joints[i].name << " strayed from its ring";
+    // The place the label had before the layout: outside the ring opposite the arrow.
+    before.push_back({views[i].center.x() - (r + 1.2 * h) * std::cos(joints[i].angle),
+                      views[i].center.y() - (r + 1.2 * h) * std::sin(joints[i].angle), b.half_width, b.half_height});
+  }
+  auto overlapping = [](const Placed& p, const Placed& q) {
+    return std::abs(p.x - q.x) < p.hw + q.hw - 1e-12 && std::abs(p.y - q.y) < p.hh + q.hh - 1e-12;
+  };
+  int pairs_before = 0;
+  for (size_t i = 0; i < placed.size(); ++i)
+    for (size_t k = i + 1; k < placed.size(); ++k) {
+      EXPECT_FALSE(overlapping(placed[i], placed[k])) << joints[i].name << " and " << joints[k].name << " overlap";
+      pairs_before += overlapping(before[i], before[k]);
+    }
+  EXPECT_GE(pairs_before, 2) << "the fixture is not crowded";
+  for (size_t i = 0; i < placed.size(); ++i)
+    for (size_t k = 0; k < views.size(); ++k) {
+      // The nearest point of the box to the ring's centre lies outside the ring.
+      const Placed& p = placed[i];
+      const double dx = std::max({p.x - p.hw - views[k].center.x(), 0.0, views[k].center.x() - p.x - p.hw});
+      const double dy = std::max({p.y - p.hh - views[k].center.y(), 0.0, views[k].center.y() - p.y - p.hh});
+      EXPECT_GE(std::hypot(dx, dy), views[k].radial * style.ecc_scale - 1e-12)
+          << joints[i].name << "'s label covers the ring of " << joints[k].name;
+    }
 }
 
 TEST(ContactMarkers, EventLabelsListedUnderTheStatusText) {
