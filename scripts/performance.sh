@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
-# Regenerates docs/performance.md and its figures with one command:
-# work-precision, stress suite (+ bit-identical rerun), soak (+ massif), a sharded
-# sweep merged and checked against the unsharded one.
-#   scripts/performance.sh            full run (about 10-20 min on 2 cores)
-#   PERF_QUICK=1 scripts/performance.sh   a few minutes: coarser grids, 200 stress runs, 1e5-step soak
-#   PERF_SKIP="wp stress soak sweep"     skip stages (their previous results in $OUT are reused)
-#   PERF_C60=0                           leave the C-60 trip out of the work-precision set
+# Regenerates docs/performance.md and its figures with one command. Stages:
+#   c60     the C-60 scenarios, both models, dt 1e-5 and 1e-6 (scripts/c60_solver_bench.sh)
+#   c60dt   the C-60 trip against dt, reference 1e-7 (scripts/analysis/c60_trip_convergence.py)
+#   wp      work-precision: small scenes, the slider-crank, the C-60 trip and bench
+#   stress  the stress suite, seed 1 (+ bit-identical rerun on one thread)
+#   seeds   the stress suite, seeds 2 and 3
+#   soak    1e6 steps (+ massif)
+#   sweep   a sharded sweep merged and checked against the unsharded one
+#   bench   the skip benchmarks (Google Benchmark)
+#   scripts/performance.sh            full run (about 25 min on 2 idle cores)
+#   PERF_QUICK=1 scripts/performance.sh   a few minutes: coarser grids, fewer runs, no C-60 dt 1e-6
+#   PERF_SKIP="wp stress ..."            skip stages (their previous results in $OUT are reused)
+#   PERF_C60=0                           leave the C-60 trip and bench out of the work-precision set
 # Raw results go to $OUT (default build/perf); docs/*.png and docs/performance.md are rewritten.
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -22,10 +28,27 @@ skip() { [[ " ${PERF_SKIP:-} " == *" $1 "* ]]; }
 
 if [ -n "${PERF_QUICK:-}" ]; then
   wp_args=(--hs 1e-3,1e-4,1e-5 --href 1e-6 --tols 1e-4,1e-8)
+  crank_args=(--hs 1e-4,1e-5 --href 1e-6)
   stress_runs=200; soak_steps=100000; massif_steps=5000
+  c60_args=(--quick); c60dt_args=(--dts 1e-4,1e-5 --ref 1e-6)
 else
   wp_args=()
+  crank_args=(--hs 1e-4,5e-5,2e-5,1e-5,5e-6,2e-6,1e-6 --href 1e-7)
   stress_runs=${PERF_STRESS_RUNS:-1000}; soak_steps=${PERF_SOAK_STEPS:-1000000}; massif_steps=20000
+  c60_args=(); c60dt_args=(--dts 1e-4,5e-5,2e-5,1e-5,5e-6,2e-6,1e-6,5e-7,2.5e-7 --ref 1e-7)
+fi
+# The load while the stages run (wall times are of a shared machine).
+cut -d' ' -f1-3 /proc/loadavg > "$OUT/load_start.txt"
+
+if ! skip c60; then
+  echo "== C-60 scenarios (scripts/c60_solver_bench.sh ${c60_args[*]})"
+  NSCD_WS=$ws "$repo/scripts/c60_solver_bench.sh" "${c60_args[@]}" | tee "$OUT/c60_solver.txt"
+fi
+
+if ! skip c60dt; then
+  echo "== C-60 trip against dt"
+  NSCD_WS=$ws $py "$repo/scripts/analysis/c60_trip_convergence.py" "${c60dt_args[@]}" \
+    --out "$OUT/c60_dt" --json "$OUT/c60_dt.json" | tee "$OUT/c60_dt.md"
 fi
 
 if ! skip wp; then
@@ -47,9 +70,13 @@ if [ "${PERF_C60:-1}" != 0 ] && [ -f "$repo/urdf/c60.urdf" ] && [ -f "$repo/scri
     --hs 1e-4,5e-5,2e-5,1e-5 --href 1e-6 --tols 1e-4,1e-8 --csv "$OUT/work_precision_c60_bench.csv" \
     > "$OUT/work_precision_c60_bench_orders.csv"
 fi
+# The slider-crank (ideal joints turning fast), 0.2 s: ~30 s.
+"$bin/nscd_work_precision" --scenes none --scene-file "slider_crank=$repo/urdf/slider_crank.urdf" \
+  --file-duration 0.2 "${crank_args[@]}" --tols 1e-8 --csv "$OUT/work_precision_crank.csv" \
+  > "$OUT/work_precision_crank_orders.csv"
 "$bin/nscd_work_precision" "${wp_args[@]}" --csv "$OUT/work_precision.csv" \
   > "$OUT/work_precision_orders.csv"
-for f in "$OUT/work_precision_c60.csv" "$OUT/work_precision_c60_bench.csv"; do
+for f in "$OUT/work_precision_crank.csv" "$OUT/work_precision_c60.csv" "$OUT/work_precision_c60_bench.csv"; do
   if [ -f "$f" ]; then tail -n +2 "$f" >> "$OUT/work_precision.csv"; fi  # one CSV for the plots
 done
 fi
@@ -60,6 +87,15 @@ if ! skip stress; then
   echo "== stress ($stress_runs runs)"
   "$repo/scripts/stress.sh" --runs "$stress_runs" > "$OUT/stress.txt" || true
   cat "$OUT/stress.txt"
+fi
+
+if ! skip seeds; then
+  for seed in 2 3; do
+    echo "== stress, seed $seed ($stress_runs runs)"
+    "$bin/nscd_stress" --runs "$stress_runs" --seed $seed --csv "$OUT/stress_seed$seed.csv" --quiet \
+      > "$OUT/stress_seed$seed.json" || true
+    cat "$OUT/stress_seed$seed.json"
+  done
 fi
 
 if ! skip soak; then
@@ -88,6 +124,16 @@ echo "{\"runs\":$(($(wc -l < "$OUT/sweep_whole.csv") - 1)),\"wall_1core_ms\":$((
   | tee "$OUT/sweep.json"
 fi
 
+if ! skip bench; then
+  echo "== skip benchmarks"
+  "$bin/nscd_bench" --benchmark_filter='Journal|ClearancePendulum|Frictionless' --benchmark_min_time=0.2 \
+    --benchmark_repetitions=3 --benchmark_report_aggregates_only=true --benchmark_format=json \
+    > "$OUT/bench.json"
+  "$bin/nscd_bench_markers" --benchmark_min_time=0.2 --benchmark_repetitions=3 \
+    --benchmark_report_aggregates_only=true --benchmark_format=json > "$OUT/bench_markers.json"
+fi
+
+cut -d' ' -f1-3 /proc/loadavg > "$OUT/load_end.txt"
 echo "== report"
 $py "$repo/scripts/analysis/performance_report.py" --out "$OUT" --docs "$repo/docs" --elapsed $(( $(date +%s) - start ))
 echo "wrote $repo/docs/performance.md"
