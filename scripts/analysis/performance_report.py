@@ -56,6 +56,27 @@ def read_text(path):
     return open(path).read() if os.path.exists(path) else None
 
 
+STAGES = ("c60", "c60dt", "wp", "stress", "seeds", "soak", "sweep", "bench", "speed")
+
+
+def elapsed_section(out, elapsed):
+    """How long the run took, and which stages' raw results come from an earlier run
+    (performance.sh writes ran_STAGE.txt, 'COMMIT|DATE|LOAD', when a stage runs)."""
+    text = "%d min %d s" % divmod(elapsed, 60)
+    skipped = os.environ.get("PERF_SKIP", "").split()
+    earlier = []
+    for st in STAGES:
+        if st not in skipped:
+            continue
+        ran = read_text(os.path.join(out, "ran_%s.txt" % st))
+        commit, date, load = (ran.strip().split("|") + ["?"])[:3] if ran else ("?", "an unknown date", "?")
+        earlier.append("%s at commit `%s` on %s, load %s" % (st, commit, date, load))
+    if earlier:
+        text += " for the stages it ran; the raw results of the others are from earlier runs (" + \
+            "; ".join(earlier) + ")"
+    return text
+
+
 def load_section(out):
     start, end = read_text(os.path.join(out, "load_start.txt")), read_text(os.path.join(out, "load_end.txt"))
     if not start:
@@ -87,18 +108,28 @@ def c60_solver_section(out):
         len(rows) - len(bad), len(rows),
         "" if not bad else " The others: " + ", ".join("%s %s %s" % (r["scenario"], r["model"], r["dt"])
                                                        for r in bad) + "."))
-    pick = {(r["scenario"], r["model"], r["dt"]): r for r in rows}
-    facts = []
-    for dt in ("1e-5", "1e-6"):
-        r = pick.get(("trip", "paper", dt))
-        if r:
-            facts.append("the trip (20.7 ms) takes %.2f s at dt %s" % (r["wall"], dt))
-    r = pick.get(("rest", "paper", "1e-5"))
-    if r:
-        facts.append("100 ms at rest from the assembled state %.2f s at dt 1e-5, i.e. %.1f µs a step"
-                     % (r["wall"], 1e6 * r["wall"] / 10000))
-    if facts:
-        s.append("Paper model, on this machine at this load: " + "; ".join(facts) + ".\n")
+    return "".join(s)
+
+
+def c60_speed_section(out):
+    """The speed stage: per run the minimum over the repetitions of the stepping's wall
+    time and of the process's CPU time."""
+    path = os.path.join(out, "speed.csv")
+    if not os.path.exists(path):
+        return "_(missing: the speed stage of scripts/performance.sh)_\n"
+    runs = {}
+    for r in csv.DictReader(open(path)):
+        runs.setdefault(r["run"], []).append(r)
+    what = {"trip_1e-5": "the trip, 20.7 ms, dt 1e-5", "trip_1e-6": "the trip, 20.7 ms, dt 1e-6",
+            "rest_1e-5": "at rest, 100 ms from the assembled state, dt 1e-5"}
+    s = ["| run (`urdf/c60.urdf`) | steps | repetitions | wall s of the stepping, min | CPU s of the process, min "
+         "| CPU µs per step | iterations mean |\n|---|---|---|---|---|---|---|\n"]
+    for name, rs in runs.items():
+        steps = int(rs[0]["steps"])
+        wall = min(float(r["wall_s"]) for r in rs)
+        cpu = min(float(r["cpu_s"]) for r in rs)
+        s.append("| %s | %d | %d | %.3f | %.3f | %.1f | %s |\n" % (
+            what.get(name, name), steps, len(rs), wall, cpu, 1e6 * cpu / steps, rs[0]["iters_mean"]))
     return "".join(s)
 
 
@@ -106,7 +137,22 @@ def c60_dt_section(out):
     text = read_text(os.path.join(out, "c60_dt.md"))
     if not text:
         return "_(missing: run scripts/analysis/c60_trip_convergence.py)_\n"
-    return text.strip() + "\n"
+    s = text.strip() + "\n"
+    res = read_text(os.path.join(out, "c60_dt.json"))
+    if res:
+        fine = [r for r in json.loads(res)["rows"] if r["dt"] <= 1.0000001e-6]
+        t0 = 0.0007  # the probe's start: times are compared from it
+        spread = []
+        for key, label, is_time in (("release_s", "release", True), ("c7_open_s", "C7 opens", True),
+                                    ("mean_push_N", "mean push", False), ("peak_0.1ms_N", "0.1-ms peak", False)):
+            v = [r[key] - t0 if is_time else r[key] for r in fine if r.get(key) is not None]
+            if len(v) >= 2:
+                mean = sum(v) / len(v)
+                spread.append("%s ±%.1f %%" % (label, 50.0 * (max(v) - min(v)) / abs(mean)))
+        if len(fine) >= 2 and spread:
+            s += ("\nSpread among the %d runs at dt ≤ 1e-6 (the reference included; half the range over their "
+                  "mean, times from the probe's start): %s.\n" % (len(fine), ", ".join(spread)))
+    return s
 
 
 def stress_seeds_section(out):
@@ -340,11 +386,10 @@ def main():
             .replace("@LOAD@", load_section(a.out))
             .replace("@C60_SOLVER@", c60_solver_section(a.out))
             .replace("@C60_DT@", c60_dt_section(a.out))
+            .replace("@C60_SPEED@", c60_speed_section(a.out))
             .replace("@STRESS_SEEDS@", stress_seeds_section(a.out))
             .replace("@SKIPS@", skips_section(a.out))
-            .replace("@ELAPSED@", "%d min %d s" % divmod(a.elapsed, 60) + (
-                " (stages skipped, earlier results reused: %s)" % os.environ["PERF_SKIP"]
-                if os.environ.get("PERF_SKIP") else ""))
+            .replace("@ELAPSED@", elapsed_section(a.out, a.elapsed))
             .replace("@WORK_PRECISION@", wp)
             .replace("@STRESS@", stress_section(a.out, a.docs))
             .replace("@SOAK@", soak_section(a.out, a.docs))
