@@ -64,16 +64,20 @@ def elapsed_section(out, elapsed):
     (performance.sh writes ran_STAGE.txt, 'COMMIT|DATE|LOAD', when a stage runs)."""
     text = "%d min %d s" % divmod(elapsed, 60)
     skipped = os.environ.get("PERF_SKIP", "").split()
-    earlier = []
+    runs = {}  # (commit, load) -> [(stage, date)]
     for st in STAGES:
         if st not in skipped:
             continue
         ran = read_text(os.path.join(out, "ran_%s.txt" % st))
         commit, date, load = (ran.strip().split("|") + ["?"])[:3] if ran else ("?", "an unknown date", "?")
-        earlier.append("%s at commit `%s` on %s, load %s" % (st, commit, date, load))
-    if earlier:
-        text += " for the stages it ran; the raw results of the others are from earlier runs (" + \
-            "; ".join(earlier) + ")"
+        runs.setdefault((commit, load), []).append((st, date))
+    if runs:
+        parts = []
+        for (commit, load), stages in runs.items():
+            dates = sorted(d for _, d in stages)
+            when = dates[0] if dates[0] == dates[-1] else "%s to %s" % (dates[0], dates[-1][11:])
+            parts.append("%s at commit `%s` (%s, load %s)" % (", ".join(st for st, _ in stages), commit, when, load))
+        text += " for the stages it ran; the raw results of the others come from earlier runs: " + "; ".join(parts)
     return text
 
 
@@ -122,14 +126,14 @@ def c60_speed_section(out):
         runs.setdefault(r["run"], []).append(r)
     what = {"trip_1e-5": "the trip, 20.7 ms, dt 1e-5", "trip_1e-6": "the trip, 20.7 ms, dt 1e-6",
             "rest_1e-5": "at rest, 100 ms from the assembled state, dt 1e-5"}
-    s = ["| run (`urdf/c60.urdf`) | steps | repetitions | wall s of the stepping, min | CPU s of the process, min "
-         "| CPU µs per step | iterations mean |\n|---|---|---|---|---|---|---|\n"]
+    s = ["| run (`urdf/c60.urdf`) | steps | repetitions | wall s of the stepping, min | µs per step (wall) "
+         "| CPU s of the process, min | iterations mean |\n|---|---|---|---|---|---|---|\n"]
     for name, rs in runs.items():
         steps = int(rs[0]["steps"])
         wall = min(float(r["wall_s"]) for r in rs)
         cpu = min(float(r["cpu_s"]) for r in rs)
-        s.append("| %s | %d | %d | %.3f | %.3f | %.1f | %s |\n" % (
-            what.get(name, name), steps, len(rs), wall, cpu, 1e6 * cpu / steps, rs[0]["iters_mean"]))
+        s.append("| %s | %d | %d | %.3f | %.1f | %.3f | %s |\n" % (
+            what.get(name, name), steps, len(rs), wall, 1e6 * wall / steps, cpu, rs[0]["iters_mean"]))
     return "".join(s)
 
 
