@@ -226,8 +226,9 @@ def skips_section(out):
     on, off = us(b, "BM_JournalProjection/on"), us(b, "BM_JournalProjection/off")
     if on is not None and off is not None:
         s.append("| no projection pass when nothing is violated | journal at rest: `BM_JournalProjection/on` (the "
-                 "step measures the violation and returns) vs `/off` (the same measurement, made when `stats()` is "
-                 "read, as the benchmark does every step) | %.3g µs | %.3g µs | %.2f× |\n" % (on, off, on / off))
+                 "step measures the violation and returns) against `/off` (the same measurement, made when "
+                 "`stats()` is read, as the benchmark does every step) | off: %.3g µs | on: %.3g µs | on costs "
+                 "%.2f of off |\n" % (off, on, on / off))
     step, markers, contacts = us(m, "BM_C60Step"), us(m, "BM_C60MarkerArray"), us(m, "BM_C60ContactsMessage")
     if step and markers:
         s.append("| markers built only with subscribers | C-60 at rest: `BM_C60MarkerArray` (one publication) against "
