@@ -83,8 +83,10 @@ TEST(Docs, SceneFormatNamesEveryElementAndAttribute) {
 
 // docs/performance.md is written by scripts/performance.sh from
 // scripts/templates/performance_template.md: everything but the generated parts (@NAME@ in
-// the template) must be the template's text, in its order. A hand-written section
-// edited into the page only would be lost at the next regeneration.
+// the template) must be the template's text, in its order, and every generated part must
+// have been filled in. A hand-written section edited into the page only would be lost at
+// the next regeneration; a figure typed into the template has no command behind it, so
+// the template states how each generated part is made and the page when and where.
 TEST(Docs, PerformancePageMatchesItsTemplate) {
   const auto read = [](const char* path) {
     std::ifstream f(nscd_test::scenePath(path));
@@ -95,7 +97,7 @@ TEST(Docs, PerformancePageMatchesItsTemplate) {
   const std::string page = read("docs/performance.md"), tmpl = read("scripts/templates/performance_template.md");
   ASSERT_FALSE(page.empty());
   ASSERT_FALSE(tmpl.empty());
-  const std::regex placeholder("@[A-Z_]+@");
+  const std::regex placeholder("@[A-Z][A-Z0-9_]*@");
   size_t at = 0;
   int chunks = 0;
   for (std::sregex_token_iterator it(tmpl.begin(), tmpl.end(), placeholder, -1), end; it != end; ++it) {
@@ -108,5 +110,14 @@ TEST(Docs, PerformancePageMatchesItsTemplate) {
     at = found + chunk.size();
     ++chunks;
   }
-  EXPECT_GE(chunks, 7);
+  EXPECT_GE(chunks, 12);
+  std::smatch left;
+  EXPECT_FALSE(std::regex_search(page, left, placeholder))
+      << "docs/performance.md still holds the placeholder " << left.str() << ": regenerate it";
+  // The run that made the page: its date and its commit.
+  EXPECT_TRUE(std::regex_search(page, std::regex("Last run: [0-9]{4}-[0-9]{2}-[0-9]{2} [0-9:]+ UTC, commit `[0-9a-f]{7,}`")))
+      << "docs/performance.md does not say when and at which commit it was generated";
+  // Dated work-log sections belong to the git log, not to a reference page.
+  EXPECT_FALSE(std::regex_search(tmpl, std::regex("\n#+ [^\n]*(session|[0-9]{4}-[0-9]{2}-[0-9]{2}|hand-written)")))
+      << "a heading of the performance template is dated or names a work session";
 }

@@ -59,7 +59,7 @@ scaled, or every friction coefficient. The calibrated P3 preload is kept in ever
 
 Clearance x0 is the model with ideal revolute joints for J1-J7 and S3
 (`urdf/c60_ideal.urdf`, `--clearance-scale 0`): closed loops of bilateral rows, solved
-since the solver changes of 2026-11-25 (docs/performance.md, "Hyperstatic sets").
+since the solver changes of 2026-11-25 (docs/performance.md, §1).
 
 - **x0.1 (4.5-8.5 um; S3 0.6 um)**: not re-run with the CAD contacts. With the earlier,
   invented contacts (engine of 2026-11-22) it gave 3.2 um of penetration (5 times the S3

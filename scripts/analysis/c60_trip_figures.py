@@ -3,7 +3,7 @@
 c60_plot.py (trip), c60_trip_compare.py, c60_trip_convergence.py and
 c60_clearance_study.py.
 
-  trip_figures(d) -> dict   (d: c60_plot.load(CSV); probe at 0.2 m/s from 0.7 ms)
+  figures(d) -> dict   (d: c60_csv.load(CSV); probe at 0.2 m/s from 0.7 ms)
 
 - touch: the first sample after the probe starts with TRIP closed (gap < 1 um);
 - tripping force: the probe's effort; its mean over the samples in contact (TRIP
@@ -22,7 +22,7 @@ c60_clearance_study.py.
 """
 import numpy as np
 
-import c60_plot as P
+import c60_csv
 
 T_PROBE = 0.0007      # s: the probe starts [Q-code]
 RELEASE_GAP = 20e-6   # m: the latch is released when every C4 pair is open by more
@@ -37,7 +37,7 @@ def first(t, mask, after=-np.inf):
 
 def figures(d):
     t, x, F = d['t'], d['probe.cmd'], d['probe.effort']
-    c4 = P.group_gap(d, 'C4')
+    c4 = c60_csv.group_gap(d, 'C4')
     seat = d['C4.fn'] + d['C4_2.fn']
     corner = d['C4_3.fn'] + d['C4_4.fn']
     r = {}
@@ -90,7 +90,7 @@ def figures(d):
     r['c7_open_after_release_ms'] = 1e3 * (t_open - t_rel) if (t_open and t_rel) else None
     # The moving contact's stroke: its largest C7 gap and its turn (from the rest pose).
     k_max = int(np.argmax(gap))
-    yaw = P.yaw(d, 'moving_contact')
+    yaw = c60_csv.yaw(d, 'moving_contact')
     i0 = np.nonzero(pre)[0][-1] if pre.any() else 0
     r['stroke_max_mm'] = 1e3 * float(gap[k_max])
     r['stroke_max_at_ms'] = 1e3 * float(t[k_max])
@@ -101,7 +101,7 @@ def figures(d):
           ('latch released (C4 > 20 um)', t_rel), ('C7 opens', t_open)]
     for name, grp in [('C6 closes (plate drags the moving contact)', 'C6'), ('C3 closes (plate after-trip stop)', 'C3'),
                       ('FC closes (bar end stop)', 'FC'), ('C5 closes (bar on the hook)', 'C5')]:
-        g = P.group_gap(d, grp)
+        g = c60_csv.group_gap(d, grp)
         ev.append((name, first(t, g < CLOSED, t_rel or t[-1])[0]))
     r['events'] = [(name, 1e3 * tt) for name, tt in sorted(((n_, tt) for n_, tt in ev if tt is not None),
                                                               key=lambda e: e[1])]

@@ -3,10 +3,11 @@
 raw results scripts/performance.sh leaves in build/perf. Run by performance.sh."""
 import argparse
 import csv
+import datetime
 import json
-import math
 import os
 import platform
+import statistics
 import subprocess
 
 import matplotlib
@@ -40,10 +41,204 @@ def cpu():
 
 
 def git_rev(repo):
+    """HEAD's short hash, marked when files outside docs/ (which the run writes) differ from it."""
     try:
-        return subprocess.check_output(["git", "-C", repo, "rev-parse", "--short", "HEAD"], text=True).strip()
+        rev = subprocess.check_output(["git", "-C", repo, "rev-parse", "--short", "HEAD"], text=True).strip()
+        dirty = subprocess.check_output(["git", "-C", repo, "status", "--porcelain", "--untracked-files=no",
+                                         "--", ".", ":!docs"], text=True)
+        changed = [line[3:] for line in dirty.splitlines() if line.strip()]
+        return rev + ("` with uncommitted changes to `" + ", ".join(changed) if changed else "")
     except Exception:
         return "unknown"
+
+
+def read_text(path):
+    return open(path).read() if os.path.exists(path) else None
+
+
+STAGES = ("c60", "c60dt", "wp", "stress", "seeds", "soak", "sweep", "bench", "speed")
+
+
+def elapsed_section(out, elapsed):
+    """How long the run took, and which stages' raw results come from an earlier run
+    (performance.sh writes ran_STAGE.txt, 'COMMIT|DATE|LOAD', when a stage runs)."""
+    text = "%d min %d s" % divmod(elapsed, 60)
+    skipped = os.environ.get("PERF_SKIP", "").split()
+    runs = {}  # (commit, load) -> [(stage, date)]
+    for st in STAGES:
+        if st not in skipped:
+            continue
+        ran = read_text(os.path.join(out, "ran_%s.txt" % st))
+        commit, date, load = (ran.strip().split("|") + ["?"])[:3] if ran else ("?", "an unknown date", "?")
+        runs.setdefault((commit, load), []).append((st, date))
+    if runs:
+        parts = []
+        for (commit, load), stages in runs.items():
+            dates = sorted(d for _, d in stages)
+            when = dates[0] if dates[0] == dates[-1] else "%s to %s" % (dates[0], dates[-1][11:])
+            parts.append("%s at commit `%s` (%s, load %s)" % (", ".join(st for st, _ in stages), commit, when, load))
+        text += " for the stages it ran; the raw results of the others come from earlier runs: " + "; ".join(parts)
+    return text
+
+
+def load_section(out):
+    start, end = read_text(os.path.join(out, "load_start.txt")), read_text(os.path.join(out, "load_end.txt"))
+    if not start:
+        return "unknown"
+    return "%s at the start and %s at the end (1-, 5-, 15-minute averages, %d cores)" % (
+        start.strip(), (end or "?").strip(), os.cpu_count())
+
+
+def c60_solver_section(out):
+    """The table of scripts/c60_solver_bench.sh's fixed-width output."""
+    text = read_text(os.path.join(out, "c60_solver.txt"))
+    if not text:
+        return "_(missing: run scripts/c60_solver_bench.sh)_\n"
+    rows = []
+    for line in text.splitlines()[1:]:
+        f = line.split()
+        if len(f) != 10:
+            continue
+        rows.append(dict(scenario=f[0], model=f[1], dt=f[2], unconv=int(f[3]), it_mean=float(f[4]),
+                         it_max=int(f[5]), res=float(f[6]), fl=int(f[7]), cap=int(f[8]), wall=float(f[9])))
+    s = ["| scenario | model | dt | unconverged steps | iterations mean / max | largest residual "
+         "| frictionless / energy cap | wall s |\n|---|---|---|---|---|---|---|---|\n"]
+    for r in rows:
+        s.append("| %s | %s | %s | %d | %.1f / %d | %.2g | %d / %d | %.2f |\n" % (
+            r["scenario"], r["model"], r["dt"], r["unconv"], r["it_mean"], r["it_max"], r["res"], r["fl"],
+            r["cap"], r["wall"]))
+    bad = [r for r in rows if r["unconv"] or r["fl"] or r["cap"]]
+    s.append("\n%d of %d scenarios end with no unconverged step and no physics-changing fallback.%s\n" % (
+        len(rows) - len(bad), len(rows),
+        "" if not bad else " The others: " + ", ".join("%s %s %s" % (r["scenario"], r["model"], r["dt"])
+                                                       for r in bad) + "."))
+    return "".join(s)
+
+
+def c60_speed_section(out):
+    """The speed stage: per run the minimum over the repetitions of the stepping's wall
+    time and of the process's CPU time."""
+    path = os.path.join(out, "speed.csv")
+    if not os.path.exists(path):
+        return "_(missing: the speed stage of scripts/performance.sh)_\n"
+    runs = {}
+    for r in csv.DictReader(open(path)):
+        runs.setdefault(r["run"], []).append(r)
+    what = {"trip_1e-5": "the trip, 20.7 ms, dt 1e-5", "trip_1e-6": "the trip, 20.7 ms, dt 1e-6",
+            "rest_1e-5": "at rest, 100 ms from the assembled state, dt 1e-5"}
+    s = ["| run (`urdf/c60.urdf`) | steps | repetitions | wall s of the stepping, min | µs per step (wall) "
+         "| CPU s of the process, min | iterations mean |\n|---|---|---|---|---|---|---|\n"]
+    for name, rs in runs.items():
+        steps = int(rs[0]["steps"])
+        wall = min(float(r["wall_s"]) for r in rs)
+        cpu = min(float(r["cpu_s"]) for r in rs)
+        s.append("| %s | %d | %d | %.3f | %.1f | %.3f | %s |\n" % (
+            what.get(name, name), steps, len(rs), wall, 1e6 * wall / steps, cpu, rs[0]["iters_mean"]))
+    return "".join(s)
+
+
+def c60_dt_section(out):
+    text = read_text(os.path.join(out, "c60_dt.md"))
+    if not text:
+        return "_(missing: run scripts/analysis/c60_trip_convergence.py)_\n"
+    s = text.strip() + "\n"
+    res = read_text(os.path.join(out, "c60_dt.json"))
+    if res:
+        fine = [r for r in json.loads(res)["rows"] if r["dt"] <= 1.0000001e-6]
+        t0 = 0.0007  # the probe's start: times are compared from it
+        spread = []
+        for key, label, is_time in (("release_s", "release", True), ("c7_open_s", "C7 opens", True),
+                                    ("mean_push_N", "mean push", False), ("peak_0.1ms_N", "0.1-ms peak", False)):
+            v = [r[key] - t0 if is_time else r[key] for r in fine if r.get(key) is not None]
+            if len(v) >= 2:
+                mean = sum(v) / len(v)
+                spread.append("%s ±%.1f %%" % (label, 50.0 * (max(v) - min(v)) / abs(mean)))
+        if len(fine) >= 2 and spread:
+            s += ("\nSpread among the %d runs at dt ≤ 1e-6 (the reference included; half the range over their "
+                  "mean, times from the probe's start): %s.\n" % (len(fine), ", ".join(spread)))
+    return s
+
+
+def stress_seeds_section(out):
+    rows = []
+    for name in ("stress_summary.json", "stress_seed2.json", "stress_seed3.json"):
+        j = jline(os.path.join(out, name))
+        if j:
+            rows.append(j)
+    if not rows:
+        return "_(missing)_\n"
+    s = ["| seed | runs × steps | unconverged steps (runs) | steps halved (most substeps) | longer last solves "
+         "| plastic retries | frictionless re-solves | energy caps | max pen. / clearance | max energy gain / scale "
+         "| NaN / crash | wall s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"]
+    for j in rows:
+        s.append("| %d | %d × %d | %d (%d) | %d (%d) | %d | %d | %d | %d | %.2g | %.2g | %d | %.1f |\n" % (
+            j["seed"], j["runs"], j["steps_per_run"], j["unconverged_steps"], j["unconverged_runs"],
+            j.get("halved_steps", 0), j.get("substeps_max", 0), j.get("longer_solve_steps", 0),
+            j.get("plastic_retry_steps", 0), j.get("frictionless_fallback_steps", 0),
+            j.get("energy_capped_steps", 0), j["pen_rel_max"], j["energy_gain_rel_max"], j["failed"], j["wall_s"]))
+    return "".join(s)
+
+
+def bench_medians(path):
+    """Benchmark name -> median CPU time per iteration in µs (Google Benchmark's JSON)."""
+    if not os.path.exists(path):
+        return {}
+    out, by_name = {}, {}
+    unit = {"ns": 1e-3, "us": 1.0, "ms": 1e3, "s": 1e6}
+    for b in json.load(open(path)).get("benchmarks", []):
+        name = b.get("run_name", b["name"])
+        t = b["cpu_time"] * unit[b.get("time_unit", "ns")]
+        if b.get("aggregate_name") == "median":
+            out[name] = t
+        elif b.get("run_type", "iteration") == "iteration":
+            by_name.setdefault(name, []).append(t)
+    for name, ts in by_name.items():
+        out.setdefault(name, statistics.median(ts))
+    return out
+
+
+def skips_section(out):
+    b = bench_medians(os.path.join(out, "bench.json"))
+    m = bench_medians(os.path.join(out, "bench_markers.json"))
+    if not b:
+        return "_(missing: run nscd_bench)_\n"
+
+    def us(d, k):
+        return d.get(k)
+
+    def row(what, bench, without, with_):
+        if without is None or with_ is None:
+            return "| %s | %s | — | — | — |\n" % (what, bench)
+        return "| %s | %s | %.3g µs | %.3g µs | %.1f× |\n" % (what, bench, without, with_, without / with_)
+
+    s = ["| skip | benchmark (without vs with) | without | with | gain |\n|---|---|---|---|---|\n"]
+    s.append(row("contacts that cannot close stay out of the solver",
+                 "journal at rest (8 candidate points, 2 closed): `BM_JournalAtRest/no_skip` vs `/skip`",
+                 us(b, "BM_JournalAtRest/no_skip"), us(b, "BM_JournalAtRest/skip")))
+    s.append(row("the same", "3D clearance pendulum: `BM_ClearancePendulumNoSkip` vs `BM_ClearancePendulum/three_d`",
+                 us(b, "BM_ClearancePendulumNoSkip"), us(b, "BM_ClearancePendulum/three_d")))
+    s.append(row("μ = 0 contacts are one row",
+                 "12 frictionless contacts, cold solve: `BM_FrictionlessContacts/three_rows:1` vs `:0`",
+                 us(b, "BM_FrictionlessContacts/three_rows:1"), us(b, "BM_FrictionlessContacts/three_rows:0")))
+    s.append(row("planar scenes: 3 DOF per body, one ring per joint, contacts in closed form",
+                 "clearance pendulum: `BM_ClearancePendulum/three_d` vs `/planar`",
+                 us(b, "BM_ClearancePendulum/three_d"), us(b, "BM_ClearancePendulum/planar")))
+    on, off = us(b, "BM_JournalProjection/on"), us(b, "BM_JournalProjection/off")
+    if on is not None and off is not None:
+        s.append("| no projection pass when nothing is violated | journal at rest: `BM_JournalProjection/on` (the "
+                 "step measures the violation and returns) against `/off` (the same measurement, made when "
+                 "`stats()` is read, as the benchmark does every step) | off: %.3g µs | on: %.3g µs | on costs "
+                 "%.2f of off |\n" % (off, on, on / off))
+    step, markers, contacts = us(m, "BM_C60Step"), us(m, "BM_C60MarkerArray"), us(m, "BM_C60ContactsMessage")
+    if step and markers:
+        s.append("| markers built only with subscribers | C-60 at rest: `BM_C60MarkerArray` (one publication) against "
+                 "`BM_C60Step` (one step) | %.3g µs per publication | 0 | %.2f of a step's %.3g µs; %.2g ms of CPU per "
+                 "second at 30 Hz |\n" % (markers, markers / step, step, 30 * markers / 1000))
+    if contacts:
+        s.append("| the same, for `~contacts` | `BM_C60ContactsMessage` | %.3g µs per publication | 0 | — |\n"
+                 % contacts)
+    s.append("\nNothing is allocated inside a step once warm: the soak (§5) counts the heap allocations.\n")
+    return "".join(s)
 
 
 def stress_section(out, docs):
@@ -191,10 +386,15 @@ def main():
     sweep = jline(os.path.join(a.out, "sweep.json")) or {}
     tmpl = open(os.path.join(repo, "scripts", "templates", "performance_template.md")).read()
     text = (tmpl.replace("@MACHINE@", "%s, %d cores, %s" % (cpu(), os.cpu_count(), platform.platform()))
+            .replace("@DATE@", datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
             .replace("@COMMIT@", git_rev(repo))
-            .replace("@ELAPSED@", "%d min %d s" % divmod(a.elapsed, 60) + (
-                " (stages skipped, earlier results reused: %s)" % os.environ["PERF_SKIP"]
-                if os.environ.get("PERF_SKIP") else ""))
+            .replace("@LOAD@", load_section(a.out))
+            .replace("@C60_SOLVER@", c60_solver_section(a.out))
+            .replace("@C60_DT@", c60_dt_section(a.out))
+            .replace("@C60_SPEED@", c60_speed_section(a.out))
+            .replace("@STRESS_SEEDS@", stress_seeds_section(a.out))
+            .replace("@SKIPS@", skips_section(a.out))
+            .replace("@ELAPSED@", elapsed_section(a.out, a.elapsed))
             .replace("@WORK_PRECISION@", wp)
             .replace("@STRESS@", stress_section(a.out, a.docs))
             .replace("@SOAK@", soak_section(a.out, a.docs))
