@@ -240,14 +240,16 @@ class SimNode {
   // Requires mutex_.
   void stepLocked() {
     const double t0 = sim_->state().t;
-    // As nscd_run: the command at the end of the step.
+    // As nscd_run: the command at the end of the step (planStep: t0 + dt, or the
+    // end of the step the adaptive step control plans).
+    const double t_end = sim_->planStep(INFINITY);
     for (const ScheduledCommand& c : schedules_)
-      if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t0 + sim_->model().settings.dt));
+      if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t_end));
     const nscd::StepStatus status = sim_->step();
     const nscd::StepStats& st = sim_->stats();
     ++steps_;
     ++window_.window_steps;
-    window_.sim_advanced += sim_->model().settings.dt;
+    window_.sim_advanced += st.h;
     window_.iterations_sum += st.iterations;
     window_.iterations_max = std::max(window_.iterations_max, st.iterations);
     window_.residual_max = std::max(window_.residual_max, st.residual);
