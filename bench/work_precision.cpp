@@ -8,6 +8,10 @@
 // with different h compare impulse for impulse (relative RMS error).
 // Writes one CSV row per run and prints the observed order of convergence (least
 // squares slope of log error against log h, at the tightest tolerance).
+// --adaptive-tols adds runs with the adaptive step control (Settings::step_control;
+// rtol = atol = each value, dt = --adaptive-dt the largest step, the solver at
+// --adaptive-solver-tol), their steps cut at the sample times (the CSV's h column
+// is then the largest step, its step_control column "adaptive").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,6 +29,7 @@
 #include "../test/physics_scenes.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 
 namespace {
@@ -45,12 +50,14 @@ struct Trace {
   long steps = 0;
   double wall_s = 0, iters_mean = 0;
   long unconverged = 0;
+  long rejected = 0;  // adaptive runs
 };
 
 struct Job {
   int scene = 0;
   double h = 0, tol = 0;
   bool reference = false;
+  double adaptive_tol = 0;  // > 0: adaptive step control, rtol = atol = this, h the largest step
   Trace trace;
 };
 
@@ -66,9 +73,12 @@ std::string fmt6(double x) {
   return b;
 }
 
-nscd::Model load(const Scene& s, double h, double tol) {
+nscd::Model load(const Scene& s, double h, double tol, double adaptive_tol = 0) {
   std::vector<nscd::SettingOverride> ov = {{"dt", fmt(h), "work_precision"},
                                            {"tolerance", fmt(tol), "work_precision"}};
+  if (adaptive_tol > 0)
+    for (const char* key : {"rtol", "atol"}) ov.push_back({key, fmt(adaptive_tol), "work_precision"});
+  if (adaptive_tol > 0) ov.push_back({"step_control", "adaptive", "work_precision"});
   return s.path.empty() ? nscd::loadSceneFromString(s.text, s.name, ov) : nscd::loadScene(s.path, ov);
 }
 
@@ -79,16 +89,18 @@ double keyForce(const nscd::Simulator& sim) {
   return f;
 }
 
-Trace runTrace(const Scene& s, double h, double tol) {
+Trace runTrace(const Scene& s, double h, double tol, double adaptive_tol) {
   Trace tr;
   try {
-    nscd::Simulator sim(load(s, h, tol));
+    nscd::Simulator sim(load(s, h, tol, adaptive_tol));
+    const bool adaptive = adaptive_tol > 0;
     const long stride = std::llround(s.sample_dt / h);
     const long samples = std::llround(s.duration / s.sample_dt);
-    if (stride < 1 || std::abs(stride * h - s.sample_dt) > 1e-9 * s.sample_dt)
+    if (!adaptive && (stride < 1 || std::abs(stride * h - s.sample_dt) > 1e-9 * s.sample_dt))
       throw std::runtime_error("h does not divide the sample interval");
-    std::vector<int> act;
-    for (const nscd::CommandSchedule& c : s.commands) act.push_back(sim.model().findActuator(c.actuator));
+    std::vector<nscd::BoundSchedule> schedules;
+    for (const nscd::CommandSchedule& c : s.commands)
+      if (sim.model().findActuator(c.actuator) >= 0) schedules.push_back({sim.model().findActuator(c.actuator), c});
     const int nb = static_cast<int>(sim.model().bodies.size());
     tr.pos.reserve(static_cast<size_t>(std::max(0L, samples) + 1) * nb * 3);  // no allocation while timed
     tr.force.reserve(static_cast<size_t>(std::max(0L, samples)));
@@ -96,23 +108,25 @@ Trace runTrace(const Scene& s, double h, double tol) {
       for (int b = 0; b < nb; ++b)
         for (int i = 0; i < 3; ++i) tr.pos.push_back(sim.state().bodies[b].x[i]);
     };
-    for (size_t i = 0; i < act.size(); ++i)
-      if (act[i] >= 0) sim.setCommand(act[i], s.commands[i].value(0.0));
+    nscd::applySchedules(schedules, 0.0, sim);
     record();
-    long iters = 0;
+    long iters = 0, k = 0;
     const auto t0 = std::chrono::steady_clock::now();
     for (long j = 1; j <= samples; ++j) {
       double impulse = 0;
-      for (long k = 1; k <= stride; ++k) {
-        const double t_next = ((j - 1) * stride + k) * h;
-        for (size_t i = 0; i < act.size(); ++i)
-          if (act[i] >= 0) sim.setCommand(act[i], s.commands[i].value(t_next));
+      const double sample_end = j * s.sample_dt;
+      // Fixed: `stride` steps, the commands at k h (as nscd_run); adaptive: steps
+      // until the sample time, the last one ending there.
+      for (long i = 1; adaptive ? sim.state().t < sample_end : i <= stride; ++i) {
+        ++k;
+        nscd::prepareScheduledStep(sim, schedules, k, sample_end);
         const nscd::StepStatus st = sim.step();
         ++tr.steps;
         iters += sim.stats().iterations;
+        tr.rejected += sim.stats().rejected;
         if (st == nscd::StepStatus::NonFinite) throw std::runtime_error("non-finite state");
         tr.unconverged += st == nscd::StepStatus::NotConverged;
-        impulse += keyForce(sim) * h;
+        impulse += keyForce(sim) * sim.stats().h;
       }
       tr.force.push_back(impulse / s.sample_dt);
       record();
@@ -197,6 +211,8 @@ int main(int argc, char** argv) {
   int jobs = nscd::sweep::defaultJobs();
   std::vector<std::string> file_scenes, commands;
   double file_duration = 0.2, file_sample_dt = 1e-3;
+  std::string adaptive_tols_arg;
+  double adaptive_dt = 0, adaptive_solver_tol = 0;
   app.add_option("--scenes", scenes_arg, "built-in scenes to run (comma list; 'none' for none)");
   app.add_option("--hs", hs_arg, "time steps (each must divide the sample interval)");
   app.add_option("--tols", tols_arg, "solver tolerances");
@@ -208,13 +224,19 @@ int main(int argc, char** argv) {
   app.add_option("--file-duration", file_duration, "simulated time of the --scene-file scenes");
   app.add_option("--file-sample-dt", file_sample_dt, "comparison grid of the --scene-file scenes (default 1e-3 s)");
   app.add_option("--command", commands, "actuator schedule NAME=t0:v0,... for --scene-file scenes");
+  app.add_option("--adaptive-tols", adaptive_tols_arg,
+                 "also adaptive runs (step_control=adaptive) at these rtol = atol (comma list)");
+  app.add_option("--adaptive-dt", adaptive_dt, "adaptive runs: the largest step (default: the sample interval)");
+  app.add_option("--adaptive-solver-tol", adaptive_solver_tol,
+                 "adaptive runs: the solver tolerance (default: the tightest of --tols)");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Scene> scenes;
-  std::vector<double> hs, tols;
+  std::vector<double> hs, tols, adaptive_tols;
   try {
     hs = parseList(hs_arg);
     tols = parseList(tols_arg);
+    if (!adaptive_tols_arg.empty()) adaptive_tols = parseList(adaptive_tols_arg);
     std::vector<std::string> wanted;
     if (scenes_arg != "none") {
       std::stringstream ss(scenes_arg);
@@ -239,10 +261,14 @@ int main(int argc, char** argv) {
   }
 
   std::vector<Job> work;
+  const double solver_tol_adaptive =
+      adaptive_solver_tol > 0 ? adaptive_solver_tol : *std::min_element(tols.begin(), tols.end());
   for (int s = 0; s < int(scenes.size()); ++s) {
-    work.push_back({s, href, ref_tol, true, {}});
+    work.push_back({s, href, ref_tol, true, 0, {}});
     for (double tol : tols)
-      for (double h : hs) work.push_back({s, h, tol, false, {}});
+      for (double h : hs) work.push_back({s, h, tol, false, 0, {}});
+    const double h_max = adaptive_dt > 0 ? adaptive_dt : scenes[s].sample_dt;
+    for (double atol : adaptive_tols) work.push_back({s, h_max, solver_tol_adaptive, false, atol, {}});
   }
   // Longest first: the references and the small steps set the total time.
   std::vector<size_t> order_idx(work.size());
@@ -253,12 +279,14 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "nscd_work_precision: %zu runs on %d threads\n", work.size(), jobs);
   nscd::sweep::parallelFor(long(work.size()), jobs, [&](long i) {
     Job& j = work[order_idx[i]];
-    j.trace = runTrace(scenes[j.scene], j.h, j.tol);
+    j.trace = runTrace(scenes[j.scene], j.h, j.tol, j.adaptive_tol);
   });
 
   std::ofstream out(csv);
   out << "scene,reference,h,tolerance,status,steps,wall_s,us_per_step,iters_mean,unconverged_steps,"
-         "pos_err_max,pos_err_rms,force_err_rel\n";
+         "pos_err_max,pos_err_rms,force_err_rel";
+  if (!adaptive_tols.empty()) out << ",step_control,step_tol,rejected_steps";
+  out << "\n";
   std::map<int, const Trace*> refs;
   for (const Job& j : work)
     if (j.reference) refs[j.scene] = &j.trace;
@@ -268,7 +296,11 @@ int main(int argc, char** argv) {
     out << scenes[j.scene].name << "," << (j.reference ? 1 : 0) << "," << fmt6(j.h) << "," << fmt6(j.tol)
         << "," << t.status << "," << t.steps << "," << fmt6(t.wall_s) << ","
         << fmt6(t.steps ? 1e6 * t.wall_s / t.steps : 0) << "," << fmt6(t.iters_mean) << "," << t.unconverged
-        << "," << fmt6(e.pos_max) << "," << fmt6(e.pos_rms) << "," << fmt6(e.force_rel) << "\n";
+        << "," << fmt6(e.pos_max) << "," << fmt6(e.pos_rms) << "," << fmt6(e.force_rel);
+    if (!adaptive_tols.empty())
+      out << "," << (j.adaptive_tol > 0 ? "adaptive" : "fixed") << "," << fmt6(j.adaptive_tol) << ","
+          << t.rejected;
+    out << "\n";
   }
   // Orders at the tightest tolerance.
   const double tight = *std::min_element(tols.begin(), tols.end());
@@ -276,7 +308,7 @@ int main(int argc, char** argv) {
   for (int s = 0; s < int(scenes.size()); ++s) {
     std::vector<double> h, pm, pr, fr;
     for (const Job& j : work)
-      if (j.scene == s && !j.reference && j.tol == tight) {
+      if (j.scene == s && !j.reference && j.adaptive_tol == 0 && j.tol == tight) {
         const Errors e = compare(j.trace, *refs[s]);
         h.push_back(j.h), pm.push_back(e.pos_max), pr.push_back(e.pos_rms), fr.push_back(e.force_rel);
       }

@@ -789,7 +789,16 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_EQ(s.max_step_halvings, 0);
   set("max_step_halvings", "20");
   EXPECT_EQ(s.max_step_halvings, 20);
-  EXPECT_EQ(settingKeys().size(), 14u);
+  EXPECT_EQ(s.step_control, StepControl::Fixed);
+  set("step_control", "adaptive");
+  EXPECT_EQ(s.step_control, StepControl::Adaptive);
+  set("rtol", "1e-5");
+  EXPECT_DOUBLE_EQ(s.rtol, 1e-5);
+  set("atol", "1e-8");
+  EXPECT_DOUBLE_EQ(s.atol, 1e-8);
+  set("dt_min", "1e-10");
+  EXPECT_DOUBLE_EQ(s.dt_min, 1e-10);
+  EXPECT_EQ(settingKeys().size(), 18u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {

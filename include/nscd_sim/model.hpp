@@ -197,6 +197,16 @@ enum class PlanarMode { None, XY };
 //   omega h in a step then takes (omega h)^2 of the kinetic energy every step.
 enum class JointWork { None, Moreau };
 
+// How the step length is chosen (docs/step_control.md).
+// Fixed: every step is dt.
+// Adaptive: dt is the first and the largest step; each step of length h is taken
+//   as 2 substeps of h/2 and as 4 of h/4, their difference is the local error
+//   estimate, a PI controller picks the next length from it (rejecting a step
+//   whose error exceeds the tolerance), and where no contact opened, closed,
+//   stuck or slipped in the step the answer is the Richardson extrapolation of
+//   the two.
+enum class StepControl { Fixed, Adaptive };
+
 struct Settings {
   double dt = 1e-4;
   double theta = 0.5;
@@ -225,6 +235,16 @@ struct Settings {
   double contact_prediction = 1;
   JointWork joint_work = JointWork::None;
   PlanarMode planar = PlanarMode::None;
+  StepControl step_control = StepControl::Fixed;
+  // Adaptive steps: a step is kept when every component of the body states
+  // (position, orientation, velocity, angular velocity) of its two paths differ
+  // by at most atol + rtol |value| (orientation: atol + rtol, in rad; where a
+  // contact changed mode, velocity differences times h, as displacements).
+  double rtol = 1e-3;
+  double atol = 1e-6;
+  // Adaptive steps: the floor of the step length, s; a step at the floor is kept
+  // whatever its error (counted). 0: dt * 1e-6.
+  double dt_min = 0;
 };
 
 struct Model {

@@ -42,6 +42,11 @@ struct State {
   // joint's angle is unwrapped across steps (it passes +-pi as it turns, 10 turns
   // are 20 pi), a prismatic joint's position. Drives, springs and reports use it.
   std::vector<double> joint_angle;
+  // Adaptive step control (Settings::step_control): the length the next step
+  // tries (0: none yet, dt), and the error estimate of the last step kept (the
+  // PI controller's memory; 0: none).
+  double step_next = 0;
+  double step_error = 0;
 };
 
 // One active contact point after a step (what the node and the CSV report).
@@ -98,6 +103,18 @@ struct StepStats {
   // those of the last.
   int substeps = 1;
   int halvings = 0;
+  // Step control (Settings::step_control): the step's length, s. Adaptive steps
+  // also report the attempts rejected before the step was kept, its error
+  // estimate (the scaled difference of its coarse and fine paths, <= 1 but at the
+  // floor dt_min; adaptive_step.hpp) and whether its answer is the Richardson
+  // extrapolation (no contact opened, closed, stuck or slipped in it). The counts
+  // and flags above then cover the fine path's substeps (iterations: every solve,
+  // the coarse path's and the rejected attempts' included); substeps and halvings
+  // those of the substep halved most.
+  double h = 0;
+  int rejected = 0;
+  double error = 0;
+  bool extrapolated = false;
 };
 
 enum class StepStatus { Ok, NotConverged, NonFinite };
@@ -135,6 +152,7 @@ using ProblemObserver = std::function<void(const ProblemView&)>;
 
 class StepWorkspace;  // preallocated buffers of the pipeline (step_workspace.hpp)
 struct StepOutputs;   // what the last step reports (step_workspace.hpp)
+struct AdaptiveStepWorkspace;  // the states an adaptive step compares (adaptive_step.hpp)
 
 class Simulator {
  public:
@@ -155,7 +173,18 @@ class Simulator {
   // One time step of length model().settings.dt; if its friction-contact problem
   // stays unsolved, taken again in halves (Settings::max_step_halvings,
   // StepStats::substeps). NotConverged: unsolved even at the smallest substep.
+  // Adaptive step control (Settings::step_control): one step kept, of the length
+  // planStep planned (or of the controller's proposal if none was planned), or
+  // shorter after rejections; the commands set before it are those at the end of
+  // the planned step, and a shorter step ends on the linear interpolation between
+  // them and the commands at its start.
   StepStatus step();
+  // Adaptive step control: plans the next step, the controller's proposal cut so
+  // that it ends at `until` rather than past it or just short of it (a remainder
+  // under two steps is split evenly). Returns the time the planned step ends at,
+  // where a front end sets the commands (command schedules: scheduled_step.hpp).
+  // Fixed step control: state().t + dt, `until` ignored.
+  double planStep(double until);
   // Called after every friction-contact solve of step() (for dumps and solver
   // studies); an empty function removes it. Costs a copy of the warm start per
   // solve while set, nothing otherwise.
@@ -215,7 +244,15 @@ class Simulator {
   // of the interval being halved; the outputs of the substeps, accumulated.
   std::vector<std::vector<double>> refine_commands_;
   std::unique_ptr<StepOutputs> refine_out_;
+  // Adaptive step control (adaptive_step.hpp): its buffers, and the step planStep
+  // planned (planned_h_ 0: none; planned_end_ NaN: not cut at an end time).
+  std::unique_ptr<AdaptiveStepWorkspace> adaptive_;
+  double planned_h_ = 0;
+  double planned_end_ = 0;
+  double planned_proposal_ = 0;
 
+  StepStatus stepWhole(double h);
+  StepStatus stepAdaptive();
   StepStatus advance(double h, int halvings, int substep);
   StepStatus takeHalves(double h, int level, int index, StepStats& total);
 };

@@ -52,20 +52,25 @@ void SimSession::restartSchedules() {
 
 void SimSession::step() {
   const double t0 = sim_->state().t;
-  // As nscd_run: the command at the end of the step.
+  // As nscd_run: the command at the end of the step (planStep: t0 + dt, or the end of
+  // the step the adaptive step control plans).
+  const double t_end = sim_->planStep(INFINITY);
   for (const ScheduledCommand& c : schedules_)
-    if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t0 + sim_->model().settings.dt));
+    if (c.active) sim_->setCommand(c.actuator, c.schedule.value(t_end));
   for (const SlewedCommand& c : slewed_)
     if (c.active) {
       const double now = sim_->command(c.limit.actuator);
-      const double most = c.limit.rate * sim_->model().settings.dt;
+      // The step's length: dt itself on fixed steps (bit for bit as before).
+      const nscd::Settings& set = sim_->model().settings;
+      const double h = set.step_control == nscd::StepControl::Fixed ? set.dt : t_end - t0;
+      const double most = c.limit.rate * h;
       sim_->setCommand(c.limit.actuator, now + std::clamp(c.target - now, -most, most));
     }
   const nscd::StepStatus status = sim_->step();
   const nscd::StepStats& st = sim_->stats();
   ++steps_;
   ++window_.window_steps;
-  window_.sim_advanced += sim_->model().settings.dt;
+  window_.sim_advanced += st.h;
   window_.iterations_sum += st.iterations;
   window_.iterations_max = std::max(window_.iterations_max, st.iterations);
   window_.residual_max = std::max(window_.residual_max, st.residual);

@@ -20,6 +20,7 @@
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/problem_file.hpp"
 #include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 
 namespace {
@@ -161,25 +162,33 @@ int main(int argc, char** argv) {
       ++dumped;
     });
   }
+  // Fixed steps: round(duration / dt) of them; adaptive: until the sim time
+  // reaches duration (scheduled_step.hpp).
+  const bool adaptive = sim->model().settings.step_control == nscd::StepControl::Adaptive;
   const long steps = static_cast<long>(std::llround(duration / h));
   nscd::applySchedules(schedules, 0.0, *sim);
   if (writer) writer->writeRow(*sim);
   const double energy_initial = sim->energy().total();
-  ProgressBar progress(!quiet && isatty(2), steps * h);
+  ProgressBar progress(!quiet && isatty(2), adaptive ? duration : steps * h);
   long iters_sum = 0;
   int iters_max = 0, unconverged = 0, plastic_retries = 0, frictionless_fallbacks = 0, energy_capped = 0;
   int longer_solves = 0;
   int halved = 0, substeps_max = 1;
-  double residual_max = 0, max_pen = 0;
+  long rejected = 0, extrapolated = 0;
+  double residual_max = 0, max_pen = 0, h_min = INFINITY, h_max = 0;
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   int status = 0;
-  for (k = 1; k <= steps; ++k) {
-    nscd::applySchedules(schedules, k * h, *sim);  // the command at the end of the step
+  for (k = 1; !nscd::runFinished(*sim, k - 1, duration); ++k) {
+    nscd::prepareScheduledStep(*sim, schedules, k, duration);  // the command at the end of the step
     const nscd::StepStatus st = sim->step();
     const nscd::StepStats& s = sim->stats();
+    rejected += s.rejected;
+    extrapolated += s.extrapolated;
+    h_min = std::min(h_min, s.h);
+    h_max = std::max(h_max, s.h);
     iters_sum += s.iterations;
     iters_max = std::max(iters_max, s.iterations);
     if (std::isfinite(s.residual)) residual_max = std::max(residual_max, s.residual);
@@ -206,7 +215,7 @@ int main(int argc, char** argv) {
   progress.finish(sim->state().t, wall_s);
   if (!dump_dir.empty()) std::cerr << "nscd_run: " << dumped << " problems written to " << dump_dir << std::endl;
   nscd::RunSummary summary;
-  summary.steps = status == 0 ? steps : k;
+  summary.steps = status == 0 ? k - 1 : k;
   summary.sim_time = sim->state().t;
   summary.wall_s = wall_s;
   summary.iters_sum = iters_sum;
@@ -222,6 +231,10 @@ int main(int argc, char** argv) {
   summary.max_penetration = max_pen;
   summary.energy_initial = energy_initial;
   summary.energy_final = sim->energy().total();
+  summary.rejected_steps = rejected;
+  summary.extrapolated_steps = extrapolated;
+  summary.h_min = h_max > 0 ? h_min : 0;
+  summary.h_max = h_max;
   std::cout << nscd::runSummaryJson(summary) << std::endl;
   return status;
 }

@@ -13,6 +13,7 @@
 #include "run_summary.hpp"
 
 #include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 
 namespace nscd::sweep {
@@ -24,8 +25,6 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     Simulator sim(model);
-    const double h = sim.model().settings.dt;
-    const long steps = std::max(0L, static_cast<long>(std::llround(opts.duration / h)));
     const int every = std::max(1, opts.every);
     applySchedules(opts.schedules, 0.0, sim);
     std::unique_ptr<CsvWriter> writer;
@@ -36,11 +35,17 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
     r.energy_initial = sim.energy().total();
     double e_prev = r.energy_initial;
     long iters_sum = 0;
-    for (long k = 1; k <= steps; ++k) {
-      applySchedules(opts.schedules, k * h, sim);  // the command at the end of the step
+    double h_min = INFINITY;
+    for (long k = 1; !runFinished(sim, k - 1, opts.duration); ++k) {
+      prepareScheduledStep(sim, opts.schedules, k, opts.duration);  // the command at the end of the step
       const StepStatus st = sim.step();
       const StepStats& s = sim.stats();
       r.steps = k;
+      r.rejected_steps += s.rejected;
+      r.extrapolated_steps += s.extrapolated;
+      h_min = std::min(h_min, s.h);
+      r.h_max = std::max(r.h_max, s.h);
+      r.h_min = h_min;
       iters_sum += s.iterations;
       r.iters_max = std::max(r.iters_max, s.iterations);
       if (std::isfinite(s.residual)) r.residual_max = std::max(r.residual_max, s.residual);
@@ -103,6 +108,10 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       js.max_penetration = r.max_penetration;
       js.energy_initial = r.energy_initial;
       js.energy_final = r.energy_final;
+      js.rejected_steps = r.rejected_steps;
+      js.extrapolated_steps = r.extrapolated_steps;
+      js.h_min = r.h_min;
+      js.h_max = r.h_max;
       std::ofstream f(opts.summary_json);
       f << runSummaryJson(js) << "\n";
       if (!f) throw std::runtime_error(opts.summary_json + ": cannot write");

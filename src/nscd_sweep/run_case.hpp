@@ -57,6 +57,10 @@ struct CaseMetrics {
   // the plastic retries.
   double fallback_gain_max = 0, fallback_loss_max = 0;
   double retry_gain_max = 0, retry_loss_max = 0;
+  // Step control (Settings::step_control; RunSummary): attempts rejected, steps
+  // extrapolated, the shortest and longest step.
+  long rejected_steps = 0, extrapolated_steps = 0;
+  double h_min = 0, h_max = 0;
 };
 
 // Runs a copy of `model` for opts.duration; never throws (errors go to status).

@@ -1,7 +1,8 @@
 // nscd_sim.Simulator: a scene loaded with setting overrides and command
 // schedules, stepped with the GIL released, its outputs as NumPy structured arrays.
-// The stepping follows nscd_run exactly (schedules applied at k*dt before step k,
-// the same CSV columns), so the numbers are the CLI's bit for bit.
+// The stepping follows nscd_run exactly (the schedules applied at the end of each
+// step, nscd::prepareScheduledStep; the same CSV columns), so the numbers are the
+// CLI's bit for bit.
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "records.hpp"
 
@@ -164,13 +166,14 @@ class PySimulator {
 
   const nscd::Model& model() const { return sim_->model(); }
   double dt() const { return model().settings.dt; }
+  bool adaptive() const { return model().settings.step_control == nscd::StepControl::Adaptive; }
 
   void setCommands(const py::object& commands) {
     BusyGuard g(busy_);
     std::vector<std::string> texts = commandTexts(commands);
     schedules_ = bindSchedules(texts, model());
     texts_ = std::move(texts);
-    nscd::applySchedules(schedules_, steps_ * dt(), *sim_);
+    nscd::applySchedules(schedules_, adaptive() ? sim_->state().t : steps_ * dt(), *sim_);
   }
 
   void setCommand(const std::string& name, double value) {
@@ -193,7 +196,7 @@ class PySimulator {
     long taken = 0;
     {
       py::gil_scoped_release nogil;
-      for (; taken < n && !failure.failed; ++taken) failure = stepOnce();
+      for (; taken < n && !failure.failed; ++taken) failure = stepOnce(INFINITY);
     }
     if (failure.failed) raiseSimulationError(failure.message, py::none());
     return taken;
@@ -206,23 +209,29 @@ class PySimulator {
                                   py::repr(py::float_(duration)).cast<std::string>() + ")");
     if (every < 1) throw std::invalid_argument("run: every must be >= 1");
     if (duration / dt() > 1e12) throw std::invalid_argument("run: duration / dt is too many steps");
-    const long steps = static_cast<long>(std::llround(duration / dt()));  // as nscd_run
-    const size_t rows_max = (include_start ? 1 : 0) + static_cast<size_t>(steps / every);
+    // Fixed steps: round(duration / dt) of them (as nscd_run); adaptive: until the
+    // sim time has advanced by duration, the last step ending there.
+    const long steps = static_cast<long>(std::llround(duration / dt()));
+    const double until = sim_->state().t + duration;
     const size_t n = fields_.size();
-    std::vector<double> values(rows_max * n);
+    std::vector<double> values;
+    if (!adaptive()) values.reserve(((include_start ? 1 : 0) + static_cast<size_t>(steps / every)) * n);
     size_t rows = 0;
     StepFailure failure;
     {
       py::gil_scoped_release nogil;
       std::vector<double> figures;
-      if (include_start) fillRow(&values[n * rows++], figures);
-      for (long k = 1; k <= steps; ++k) {
-        failure = stepOnce();
+      auto record = [&] {
+        values.resize((rows + 1) * n);
+        fillRow(&values[n * rows++], figures);
+      };
+      if (include_start) record();
+      for (long k = 1; adaptive() ? sim_->state().t < until : k <= steps; ++k) {
+        failure = stepOnce(until);
         if (failure.failed) break;
-        if (k % every == 0) fillRow(&values[n * rows++], figures);
+        if (k % every == 0) record();
       }
     }
-    values.resize(rows * n);
     py::array record = recordArray(fields_, values, rows);
     if (failure.failed) raiseSimulationError(failure.message, record);
     return record;
@@ -345,6 +354,10 @@ class PySimulator {
     d["energy_capped"] = s.energy_capped;
     d["projection_energy_removed"] = s.projection_energy_removed;
     d["iteration_matrix_fallback"] = s.iteration_matrix_fallback;
+    d["h"] = s.h;
+    d["rejected"] = s.rejected;
+    d["error"] = s.error;
+    d["extrapolated"] = s.extrapolated;
     return d;
   }
 
@@ -414,6 +427,12 @@ class PySimulator {
     for (const std::string& n : nscd::keyFigureNames(m)) fields_.push_back({n});
     fields_.push_back({"iters", FieldType::Int32});
     fields_.push_back({"residual"});
+    if (adaptive()) {  // the CSV's step columns (nscd_run, adaptive step control)
+      fields_.push_back({"h"});
+      fields_.push_back({"error"});
+      fields_.push_back({"rejected", FieldType::Int32});
+      fields_.push_back({"extrapolated", FieldType::Bool});
+    }
     csv_fields_ = fields_.size();
     fields_.push_back({"converged", FieldType::Bool});
     fields_.push_back({"active_contacts", FieldType::Int32});
@@ -451,6 +470,12 @@ class PySimulator {
     const nscd::StepStats& s = sim_->stats();
     row[c++] = s.iterations;
     row[c++] = s.residual;
+    if (adaptive()) {
+      row[c++] = s.h;
+      row[c++] = s.error;
+      row[c++] = s.rejected;
+      row[c++] = s.extrapolated;
+    }
     row[c++] = s.converged;
     row[c++] = s.active_contacts;
     row[c++] = s.rows;
@@ -468,9 +493,10 @@ class PySimulator {
       if (m.joints[j].type != nscd::JointType::Fixed) row[c++] = sim_->jointVelocity(static_cast<int>(j));
   }
 
-  // Step k = steps_ + 1, its commands set to the schedules' values at k dt (as nscd_run).
-  StepFailure stepOnce() {
-    nscd::applySchedules(schedules_, (steps_ + 1) * dt(), *sim_);
+  // Step k = steps_ + 1, its commands set to the schedules' values at its end (as
+  // nscd_run: k dt with fixed steps; adaptive steps end no later than `until`).
+  StepFailure stepOnce(double until) {
+    nscd::prepareScheduledStep(*sim_, schedules_, steps_ + 1, until);
     const nscd::StepStatus st = sim_->step();
     ++steps_;
     StepFailure f;
@@ -497,7 +523,7 @@ class PySimulator {
   std::unique_ptr<nscd::Simulator> sim_;
   std::vector<std::string> texts_;
   std::vector<nscd::BoundSchedule> schedules_;
-  long steps_ = 0;  // steps since t = 0: step k's commands are the schedules' at k dt
+  long steps_ = 0;  // steps since t = 0: (fixed steps) step k's commands are the schedules' at k dt
   std::vector<Field> fields_;
   size_t csv_fields_ = 0;  // the first csv_fields_ fields are nscd_run's CSV columns
   std::atomic<bool> busy_{false};
@@ -531,7 +557,8 @@ void bindSimulator(py::module_& m) {
            "Takes n steps (GIL released); returns n. Raises SimulationError on a non-finite state.")
       .def("run", &PySimulator::run, py::arg("duration"), py::arg("every") = 1,
            py::arg("include_start") = true,
-           "Takes round(duration / dt) steps (GIL released) and returns a structured array: one "
+           "Takes round(duration / dt) steps (adaptive step control: steps until the time has "
+           "advanced by duration) (GIL released) and returns a structured array: one "
            "record for the state at the start (include_start) and one every `every` steps; fields "
            "in record_fields. Raises SimulationError (its .record: the rows before the failure).")
       .def("state", &PySimulator::state, "A copy of the current State.")
@@ -576,6 +603,11 @@ void bindSimulator(py::module_& m) {
                                d["max_iterations"] = st.max_iterations;
                                d["projection"] = st.projection;
                                d["projection_tolerance"] = st.projection_tolerance;
+                               d["step_control"] =
+                                   st.step_control == nscd::StepControl::Adaptive ? "adaptive" : "fixed";
+                               d["rtol"] = st.rtol;
+                               d["atol"] = st.atol;
+                               d["dt_min"] = st.dt_min;
                                return d;
                              },
                              "a few of the settings in force")

@@ -17,7 +17,8 @@ namespace nscd_python {
 
 namespace {
 
-constexpr int kPickleVersion = 1;
+// 2: with the adaptive step control's memory (step_next, step_error); 1 is read too.
+constexpr int kPickleVersion = 2;
 constexpr int kBodyColumns = 13;  // x y z, qw qx qy qz, vx vy vz, wx wy wz (body frame)
 
 py::array_t<double> vectorArray(const std::vector<double>& v) {
@@ -62,12 +63,13 @@ py::tuple pickleState(const nscd::State& s) {
   for (size_t i = 0; i < s.warm_valid.size(); ++i) valid.mutable_data()[i] = s.warm_valid[i] ? 1 : 0;
   return py::make_tuple(kPickleVersion, s.t, bodyArray(s), vectorArray(s.commands),
                         vectorArray(s.prev_commands), warm, valid, vectorArray(s.warm_bilateral),
-                        vectorArray(s.ring_hint), vectorArray(s.joint_angle));
+                        vectorArray(s.ring_hint), vectorArray(s.joint_angle), s.step_next, s.step_error);
 }
 
 nscd::State unpickleState(const py::tuple& t) {
-  if (t.size() != 10 || py::cast<int>(t[0]) != kPickleVersion)
-    throw std::invalid_argument("State: not a pickled nscd_sim.State of version 1");
+  const int version = t.size() > 0 ? py::cast<int>(t[0]) : 0;
+  if (!((version == 1 && t.size() == 10) || (version == 2 && t.size() == 12)))
+    throw std::invalid_argument("State: not a pickled nscd_sim.State of version 1 or 2");
   nscd::State s;
   s.t = py::cast<double>(t[1]);
   auto bodies = doubles(t[2], "bodies", kBodyColumns);
@@ -92,6 +94,10 @@ nscd::State unpickleState(const py::tuple& t) {
   s.warm_bilateral = toVector(t[7], "warm_bilateral");
   s.ring_hint = toVector(t[8], "ring_hint");
   s.joint_angle = toVector(t[9], "joint_angle");
+  if (version == 2) {
+    s.step_next = py::cast<double>(t[10]);
+    s.step_error = py::cast<double>(t[11]);
+  }
   return s;
 }
 
@@ -116,7 +122,9 @@ bool sameState(const nscd::State& a, const nscd::State& b) {
     if (std::memcmp(a.warm[i].data(), b.warm[i].data(), 3 * sizeof(double))) return false;
   return sameBits(a.commands, b.commands) && sameBits(a.prev_commands, b.prev_commands) &&
          sameBits(a.warm_bilateral, b.warm_bilateral) && sameBits(a.ring_hint, b.ring_hint) &&
-         sameBits(a.joint_angle, b.joint_angle);
+         sameBits(a.joint_angle, b.joint_angle) &&
+         std::memcmp(&a.step_next, &b.step_next, sizeof(double)) == 0 &&
+         std::memcmp(&a.step_error, &b.step_error, sizeof(double)) == 0;
 }
 
 }  // namespace
@@ -135,6 +143,10 @@ void bindState(py::module_& m) {
                              "actuator commands")
       .def_property_readonly("joint_angle", [](const nscd::State& s) { return vectorArray(s.joint_angle); },
                              "per joint (every joint, fixed ones too), the coordinate followed across turns")
+      .def_readonly("step_next", &nscd::State::step_next,
+                    "adaptive step control: the length the next step tries, s (0: none yet)")
+      .def_readonly("step_error", &nscd::State::step_error,
+                    "adaptive step control: the error estimate of the last step kept (0: none)")
       .def("copy", [](const nscd::State& s) { return nscd::State(s); })
       .def("__copy__", [](const nscd::State& s) { return nscd::State(s); })
       .def("__deepcopy__", [](const nscd::State& s, py::dict) { return nscd::State(s); })

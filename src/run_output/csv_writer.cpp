@@ -20,7 +20,10 @@ CsvWriter::CsvWriter(const std::string& path, const Simulator& sim) {
     std::fprintf(f_, ",%s.gap,%s.fn,%s.ft", c.name.c_str(), c.name.c_str(), c.name.c_str());
   for (const Spring& s : m.springs) std::fprintf(f_, ",%s.force", s.name.c_str());
   for (const Actuator& a : m.actuators) std::fprintf(f_, ",%s.cmd,%s.effort", a.name.c_str(), a.name.c_str());
-  std::fprintf(f_, ",iters,residual\n");
+  std::fprintf(f_, ",iters,residual");
+  adaptive_ = m.settings.step_control == StepControl::Adaptive;
+  if (adaptive_) std::fprintf(f_, ",h,error,rejected,extrapolated");
+  std::fprintf(f_, "\n");
 }
 
 CsvWriter::~CsvWriter() {
@@ -49,7 +52,10 @@ void CsvWriter::writeRow(const Simulator& sim) {
   for (size_t i = 0; i < m.springs.size(); ++i) std::fprintf(f_, ",%.10g", sim.springForce(i));
   for (size_t i = 0; i < m.actuators.size(); ++i)
     std::fprintf(f_, ",%.10g,%.10g", sim.command(i), sim.actuatorEffort(i));
-  std::fprintf(f_, ",%d,%.4g\n", sim.stats().iterations, sim.stats().residual);
+  const StepStats& st = sim.stats();
+  std::fprintf(f_, ",%d,%.4g", st.iterations, st.residual);
+  if (adaptive_) std::fprintf(f_, ",%.10g,%.4g,%d,%d", st.h, st.error, st.rejected, st.extrapolated ? 1 : 0);
+  std::fprintf(f_, "\n");
 }
 
 }  // namespace nscd

@@ -21,6 +21,7 @@ class CsvWriter {
 
  private:
   std::FILE* f_ = nullptr;
+  bool adaptive_ = false;  // adaptive step control: the step columns h, error, rejected, extrapolated
 };
 
 }  // namespace nscd

@@ -32,7 +32,10 @@ std::string runSummaryJson(const RunSummary& r) {
          ",\"energy_capped_steps\":" + std::to_string(r.energy_capped_steps) +
          ",\"max_penetration\":" + jsonNumber(r.max_penetration) +
          ",\"energy_initial\":" + jsonNumber(r.energy_initial) +
-         ",\"energy_final\":" + jsonNumber(r.energy_final) + "}";
+         ",\"energy_final\":" + jsonNumber(r.energy_final) +
+         ",\"rejected_steps\":" + std::to_string(r.rejected_steps) +
+         ",\"extrapolated_steps\":" + std::to_string(r.extrapolated_steps) +
+         ",\"h_min\":" + jsonNumber(r.h_min) + ",\"h_max\":" + jsonNumber(r.h_max) + "}";
 }
 
 }  // namespace nscd

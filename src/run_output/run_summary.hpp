@@ -23,6 +23,13 @@ struct RunSummary {
   double max_penetration = 0;
   double energy_initial = 0;
   double energy_final = 0;
+  // Step control (Settings::step_control): steps rejected before a step was kept
+  // (adaptive), steps whose answer was extrapolated (adaptive), the shortest and
+  // longest step kept, s (fixed: dt both).
+  long rejected_steps = 0;
+  long extrapolated_steps = 0;
+  double h_min = 0;
+  double h_max = 0;
 };
 
 // {"steps":..,"sim_time":..,"wall_s":..,"rtf":..,"iters_mean":..,...} without a line

@@ -151,7 +151,8 @@ def test_non_finite_state_is_refused(nscd_sim, pendulum):
 
 
 @pytest.mark.parametrize('change, message', [
-    (lambda t: (2,) + t[1:], 'version'),
+    (lambda t: (99,) + t[1:], 'version'),
+    (lambda t: (1,) + t[1:], 'version'),
     (lambda t: t[:5], 'version'),
     (lambda t: t[:2] + (np.zeros((1, 12)),) + t[3:], 'bodies has the wrong shape'),
     (lambda t: t[:5] + (np.zeros(3),) + t[6:], 'warm has the wrong shape'),

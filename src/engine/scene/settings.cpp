@@ -154,6 +154,31 @@ const std::vector<SettingRule>& settingRules() {
          else if (s == "true" || s == "xy" || s == "1" || s == "yes") st.planar = PlanarMode::XY;
          else throw Bad{"setting 'planar': '" + v + "' is not one of false, none, true, xy"};
        }},
+      {"step_control",
+       [](Settings& st, const std::string&, const std::string& v) {
+         const std::string s = lower(trim(v));
+         if (s == "fixed") st.step_control = StepControl::Fixed;
+         else if (s == "adaptive") st.step_control = StepControl::Adaptive;
+         else throw Bad{"setting 'step_control': '" + v + "' is not one of fixed, adaptive"};
+       }},
+      {"rtol",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, false, 1, true);
+         st.rtol = x;
+       }},
+      {"atol",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         if (!(x > 0)) throw Bad{"setting 'atol' must be > 0, got " + num(x)};
+         st.atol = x;
+       }},
+      {"dt_min",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         const double x = finiteValue(key, v);
+         requireIn(key, x, 0, false, 0.1, false);
+         st.dt_min = x;
+       }},
   };
   return rules;
 }

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "adaptive_step.hpp"
 #include "joints/clearance_joint.hpp"
 #include "geometry/contact_pair.hpp"
 #include "step_stages.hpp"
@@ -21,7 +22,8 @@ constexpr int kLateActivationRounds = 3;
 
 Simulator::Simulator(Model model)
     : model_(std::move(model)), ws_(new StepWorkspace), out_(new StepOutputs),
-      query_ws_(new StepWorkspace), refine_out_(new StepOutputs) {
+      query_ws_(new StepWorkspace), refine_out_(new StepOutputs),
+      adaptive_(new AdaptiveStepWorkspace) {
   const Model& m = model_;
   initStepWorkspace(m, *ws_);
   initStepWorkspace(m, *query_ws_);
@@ -33,12 +35,14 @@ Simulator::Simulator(Model model)
   initial_state_ = state_;
   // Sized once: a halving copies commands without allocating.
   refine_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
+  if (m.settings.step_control == StepControl::Adaptive) initAdaptiveStep(m, *ws_, state_, *adaptive_);
 }
 
 Simulator::~Simulator() = default;
 
 void Simulator::reset() {
   state_ = initial_state_;
+  planned_h_ = 0;
   ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
@@ -58,8 +62,12 @@ void Simulator::setState(const State& s) {
   for (double c : s.commands) finite = finite && std::isfinite(c);
   for (double c : s.prev_commands) finite = finite && std::isfinite(c);
   for (double a : s.joint_angle) finite = finite && std::isfinite(a);
+  finite = finite && std::isfinite(s.step_next) && std::isfinite(s.step_error);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
+  if (s.step_next < 0 || s.step_error < 0)
+    throw std::invalid_argument("setState: step_next and step_error must be >= 0");
   state_ = s;
+  planned_h_ = 0;
   ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
   clearStepOutputs(*out_);
 }
@@ -73,7 +81,14 @@ bool Simulator::setCommand(int actuator, double value) {
 }
 
 StepStatus Simulator::step() {
-  const double h = model_.settings.dt;
+  if (model_.settings.step_control == StepControl::Adaptive) return stepAdaptive();
+  const StepStatus status = stepWhole(model_.settings.dt);
+  out_->stats.h = model_.settings.dt;
+  return status;
+}
+
+// One step of length h, taken again in halves while its problem stays unsolved.
+StepStatus Simulator::stepWhole(double h) {
   const StepStatus whole = advance(h, 0, 0);
   if (whole != StepStatus::NotConverged || model_.settings.max_step_halvings == 0) return whole;
   // Unsolved: taken again from its start (advance left the state as it found it)

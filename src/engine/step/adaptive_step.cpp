@@ -1,0 +1,216 @@
+// Adaptive step control (adaptive_step.hpp): Simulator::planStep and
+// Simulator::stepAdaptive. Each attempt of length h is taken along a coarse path
+// and a fine one (twice the substeps) from the same State (saved here and
+// restored: warm starts, ring hints and commands with it; the narrowphase memo
+// keys on the poses, so it cannot serve the wrong ones). Every substep goes
+// through stepWhole, so a problem left unsolved is still taken in halves
+// (Settings::max_step_halvings) inside it.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "adaptive_step.hpp"
+#include "step_stages.hpp"
+
+namespace nscd {
+namespace {
+
+// The coarse path's substeps (the fine path takes twice as many). Two, not one:
+// the velocity a substep ends with satisfies the joints' rows at the configuration
+// it started from, so it is off the joints at its own by O(h) (|v| omega h for a
+// joint turning at omega), and the rows of ideal joints on the theta-average
+// velocity flip that part every substep (theta = 1/2; it never reaches the
+// positions, which move with the average). One substep against two would compare
+// that part flipped once against flipped twice, an O(h) difference in velocity
+// where the scheme's error is O(h^3), and the extrapolation would multiply it
+// every step (measured: unstable). Two against four flip it alike.
+constexpr int kCoarseSubsteps = 2;
+
+// The larger in magnitude (as step_halving.cpp: one substep's kinetic change stands for the step).
+double largerChange(double a, double b) { return std::abs(b) > std::abs(a) ? b : a; }
+
+// `total` (the stats of a path's earlier substeps) gathered into `last` (the
+// substep just taken): counts add, flags and the residual take the worst, the
+// contacts, rows and penetration are those of the end.
+void gatherStats(const StepStats& total, StepStats& last) {
+  last.iterations += total.iterations;
+  if (!(total.residual <= last.residual)) last.residual = total.residual;  // NaN stays
+  last.converged = total.converged && last.converged;
+  last.projection_passes += total.projection_passes;
+  last.projection_least_distance += total.projection_least_distance;
+  last.plastic_fallback = last.plastic_fallback || total.plastic_fallback;
+  last.late_contacts += total.late_contacts;
+  last.plastic_retry = last.plastic_retry || total.plastic_retry;
+  last.plastic_retry_kinetic_change =
+      largerChange(total.plastic_retry_kinetic_change, last.plastic_retry_kinetic_change);
+  last.longer_solve = last.longer_solve || total.longer_solve;
+  last.frictionless_fallback = last.frictionless_fallback || total.frictionless_fallback;
+  last.fallback_kinetic_change =
+      largerChange(total.fallback_kinetic_change, last.fallback_kinetic_change);
+  last.energy_capped = last.energy_capped || total.energy_capped;
+  last.projection_energy_removed += total.projection_energy_removed;
+  last.iteration_matrix_fallback = last.iteration_matrix_fallback || total.iteration_matrix_fallback;
+  last.substeps = std::max(total.substeps, last.substeps);
+  last.halvings = std::max(total.halvings, last.halvings);
+}
+
+// Forces and efforts (impulse / length) of a substep, weighted by its share of the path.
+void addForces(const StepOutputs& sub, double share, StepOutputs& acc) {
+  for (size_t i = 0; i < acc.actuator_effort.size(); ++i)
+    acc.actuator_effort[i] += share * sub.actuator_effort[i];
+  for (size_t p = 0; p < acc.pair_fn.size(); ++p) {
+    acc.pair_fn[p] += share * sub.pair_fn[p];
+    acc.pair_ft_vec[p] += share * sub.pair_ft_vec[p];
+  }
+  for (size_t c = 0; c < acc.cj_fn.size(); ++c) acc.cj_fn[c] += share * sub.cj_fn[c];
+}
+
+void clearForces(StepOutputs& acc) {
+  std::fill(acc.actuator_effort.begin(), acc.actuator_effort.end(), 0.0);
+  std::fill(acc.pair_fn.begin(), acc.pair_fn.end(), 0.0);
+  std::fill(acc.pair_ft_vec.begin(), acc.pair_ft_vec.end(), Vec3::Zero());
+  std::fill(acc.cj_fn.begin(), acc.cj_fn.end(), 0.0);
+}
+
+// out's forces <- the fine path's, extrapolated as the state is when f != 0.
+void keepForces(const StepOutputs& fine, const StepOutputs& coarse, double f, StepOutputs& out) {
+  auto take = [f](double a, double b) { return a + f * (a - b); };
+  for (size_t i = 0; i < out.actuator_effort.size(); ++i)
+    out.actuator_effort[i] = take(fine.actuator_effort[i], coarse.actuator_effort[i]);
+  for (size_t p = 0; p < out.pair_fn.size(); ++p) {
+    out.pair_fn[p] = take(fine.pair_fn[p], coarse.pair_fn[p]);
+    for (int k = 0; k < 3; ++k) out.pair_ft_vec[p][k] = take(fine.pair_ft_vec[p][k], coarse.pair_ft_vec[p][k]);
+    out.pair_ft[p] = out.pair_ft_vec[p].norm();
+  }
+  for (size_t c = 0; c < out.cj_fn.size(); ++c) out.cj_fn[c] = take(fine.cj_fn[c], coarse.cj_fn[c]);
+}
+
+}  // namespace
+
+void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& state,
+                      AdaptiveStepWorkspace& a) {
+  a.start = state;
+  a.coarse = state;
+  a.end_command = state.commands;
+  initStepOutputs(m, a.coarse_out);
+  initStepOutputs(m, a.fine_out);
+  // Warm-start slots: kMaxPointsPerPair per contact pair, then kMaxClearancePoints
+  // per clearance joint (contact_candidates.cpp, clearance_joint.cpp).
+  a.slot_mu.assign(ws.facts.contact_slots, 0.0);
+  for (int slot = 0; slot < ws.facts.contact_slots; ++slot) {
+    const int base = ws.facts.contact_slot_base_clearance;
+    a.slot_mu[slot] = slot < base ? m.contacts[slot / kMaxPointsPerPair].mu
+                                  : m.clearance_joints[(slot - base) / kMaxClearancePoints].mu;
+  }
+}
+
+double Simulator::planStep(double until) {
+  const Settings& set = model_.settings;
+  if (set.step_control != StepControl::Adaptive) return state_.t + set.dt;
+  const StepLengths lim = stepLengths(set);
+  const double proposal = state_.step_next > 0 ? std::min(state_.step_next, lim.h_max) : lim.h_max;
+  double h = proposal;
+  planned_end_ = NAN;
+  const double remaining = until - state_.t;
+  if (remaining > 0 && remaining <= h * (1 + 1e-9)) {
+    h = remaining;
+    planned_end_ = until;
+  } else if (remaining > h && remaining < 2 * h) {
+    h = 0.5 * remaining;  // two even steps rather than one and a sliver
+  }
+  planned_h_ = h;
+  planned_proposal_ = proposal;
+  return std::isnan(planned_end_) ? state_.t + h : planned_end_;
+}
+
+StepStatus Simulator::stepAdaptive() {
+  const Model& m = model_;
+  const Settings& set = m.settings;
+  AdaptiveStepWorkspace& a = *adaptive_;
+  if (!(planned_h_ > 0)) planStep(INFINITY);
+  const double h_plan = planned_h_, end_plan = planned_end_, proposal = planned_proposal_;
+  planned_h_ = 0;
+  const StepLengths lim = stepLengths(set);
+  const double t0 = state_.t;
+  a.start = state_;  // same sizes: no allocation
+  a.end_command = state_.commands;
+
+  long iterations = 0;
+  // n substeps of length h / n from a.start (in state_), the commands linear from
+  // those at the start to those at t0 + fraction h_plan; forces averaged into
+  // `forces`, stats gathered into out_->stats; `event`: some substep had a
+  // nonsmooth event or left a contact in another mode than at the start.
+  auto takePath = [&](int n, double h, double fraction, StepOutputs& forces, bool& event) {
+    StepStatus worst = StepStatus::Ok;
+    StepStats total;
+    event = false;
+    clearForces(forces);
+    for (int i = 1; i <= n; ++i) {
+      const double f = i == n ? fraction : fraction * i / n;
+      for (size_t c = 0; c < a.end_command.size(); ++c) {
+        const double c0 = a.start.prev_commands[c], c1 = a.end_command[c];
+        state_.commands[c] = f == 1 ? c1 : c0 + f * (c1 - c0);
+      }
+      const StepStatus s = stepWhole(h / n);
+      iterations += out_->stats.iterations;
+      if (s == StepStatus::NonFinite) return s;
+      if (s == StepStatus::NotConverged) worst = s;
+      event = event || stepHadEvent(out_->stats) || !sameContactModes(a.slot_mu, a.start, state_);
+      addForces(*out_, 1.0 / n, forces);
+      if (i > 1) gatherStats(total, out_->stats);
+      total = out_->stats;
+    }
+    return worst;
+  };
+
+  int rejected = 0;
+  double h = h_plan, error = 0;
+  bool coarse_event = false, fine_event = false;
+  StepStatus status = StepStatus::Ok;
+  for (;;) {
+    const double fraction = h == h_plan ? 1.0 : h / h_plan;
+    if (rejected > 0) state_ = a.start;
+    const StepStatus coarse = takePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event);
+    a.coarse = state_;
+    a.coarse_out.stats = out_->stats;
+    state_ = a.start;
+    status = takePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event);
+    // Where a contact changed mode, velocities jump: the paths' velocities differ by
+    // O(1) whenever one has met the event and the other not yet, however short the
+    // step. Their difference then counts as the displacement it makes over the step
+    // (weight h), which a shorter step does reduce: the event is located in time.
+    const bool event = coarse_event || fine_event;
+    error = status != StepStatus::NonFinite && coarse != StepStatus::NonFinite
+                ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0)
+                : INFINITY;
+    if (error <= 1 || h <= lim.h_min) break;
+    ++rejected;
+    h = retryStepLength(lim, h, error);
+  }
+
+  StepStats& st = out_->stats;
+  st.iterations = static_cast<int>(std::min<long>(iterations, std::numeric_limits<int>::max()));
+  st.h = h;
+  st.rejected = rejected;
+  st.error = error;
+  if (status == StepStatus::NonFinite) return status;
+  // Nothing nonsmooth on either path, every contact in the mode it ended the last
+  // step in: the fine path's answer extrapolated.
+  const bool smooth = !coarse_event && !fine_event;
+  const double f = smooth ? kRichardsonFactor : 0.0;
+  if (smooth) {
+    richardsonExtrapolate(a.coarse, f, state_);
+    trackJointAngles(m, state_);
+  }
+  keepForces(a.fine_out, a.coarse_out, f, *out_);
+  st.extrapolated = smooth;
+  state_.t = h == h_plan && !std::isnan(end_plan) ? end_plan : t0 + h;
+  double next = nextStepLength(lim, h, error, a.start.step_error, rejected > 0);
+  // A step cut short to end at a given time is no reason for the next to be short.
+  if (rejected == 0 && h < proposal) next = std::max(next, proposal);
+  state_.step_next = next;
+  state_.step_error = std::min(error, 1e3);
+  return status;
+}
+
+}  // namespace nscd

@@ -1,0 +1,77 @@
+// Adaptive step control (Settings::step_control = adaptive), internal to the
+// engine. A step of length h is taken from the same State along two paths: a
+// coarse one of 2 substeps of h/2 and a fine one of 4 substeps of h/4 (why not 1
+// and 2: kCoarseSubsteps, adaptive_step.cpp). Their difference is the local error
+// estimate (for a first-order scheme the coarse path errs by 2 C (h/2)^2, the
+// fine one by half that: the difference is the fine path's error). Where nothing
+// nonsmooth happened in the step, their Richardson combination is kept
+// (kRichardsonFactor), else the fine path's answer; a PI controller picks the
+// next length. Three files:
+//   step_doubling.cpp         the error norm, the contact modes, the extrapolation
+//   step_size_controller.cpp  the PI law, rejections and the floor
+//   adaptive_step.cpp         Simulator::stepAdaptive and planStep
+#pragma once
+
+#include <vector>
+
+#include "step_workspace.hpp"
+
+namespace nscd {
+
+// The buffers of an adaptive step, sized once when the simulator is made.
+struct AdaptiveStepWorkspace {
+  State start;          // the State the step starts from (restored for each path)
+  State coarse;         // after the coarse path
+  std::vector<double> end_command;  // the commands at the end of the planned step
+  StepOutputs coarse_out, fine_out;  // the paths' forces (averaged) and stats
+  std::vector<double> slot_mu;       // friction coefficient of each warm-start slot
+};
+
+// Sizes the buffers for the model (`state`: the simulator's, for the sizes).
+void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& state,
+                      AdaptiveStepWorkspace& a);
+
+// ---- step_doubling.cpp
+// The largest difference between two states' bodies, each component scaled by
+// atol + rtol max(|a|, |b|): positions, velocities and angular velocities (world
+// frame) times velocity_weight, and orientations as the angle between them
+// (scaled by atol + rtol). Infinite if either is not finite.
+double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
+                             double velocity_weight);
+// True if no contact changed mode between the two states' warm starts (the
+// impulses of the step each ended): each slot open (inactive, or no normal
+// impulse) in both, or closed in both and sticking in both, or sliding in both
+// the same way (tangential impulses not opposed).
+bool sameContactModes(const std::vector<double>& slot_mu, const State& a, const State& b);
+// True if the step's stats show a nonsmooth event or a rescue: an unsolved
+// problem, contacts closed by the answer, a halving, a plastic or frictionless fallback, scaled impulses.
+bool stepHadEvent(const StepStats& st);
+// The Richardson combination y_fine + (y_fine - y_coarse): the fine path's error
+// of order h h/4 cancelled against the coarse one's h h/2, for a scheme of order
+// 1. The theta-scheme is first order on mechanisms (measured: a four-bar's error
+// at 0.5 s halves with h; docs/step_control.md); on a single body turning on one
+// joint or a linear oscillator it is second order, and the combination is then
+// still of order 2, with twice the fine path's error.
+constexpr double kRichardsonFactor = 1.0;
+// fine <- fine + f (fine - coarse) for every body: positions, velocities and world
+// angular velocities linearly, orientations along the geodesic (the fine
+// orientation turned on by f times the rotation from the coarse one to it).
+void richardsonExtrapolate(const State& coarse, double f, State& fine);
+
+// ---- step_size_controller.cpp
+// The PI controller of the step length (Gustafsson 1991; Hairer-Wanner II, IV.2)
+// for an error estimate of order 2 in h.
+struct StepLengths {
+  double h_min = 0;  // the floor
+  double h_max = 0;  // dt
+};
+StepLengths stepLengths(const Settings& set);
+// The length after a step of length h kept with error `error` (<= 1), given the
+// error of the step kept before it (0: none) and whether this step was rejected
+// first (then it may not grow).
+double nextStepLength(const StepLengths& lim, double h, double error, double previous_error,
+                      bool after_rejection);
+// The length to try again after a step of length h rejected with error `error` (> 1).
+double retryStepLength(const StepLengths& lim, double h, double error);
+
+}  // namespace nscd

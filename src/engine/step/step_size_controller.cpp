@@ -1,0 +1,45 @@
+// The step-size controller of adaptive steps (adaptive_step.hpp): a PI controller
+// (Gustafsson 1991; Hairer-Wanner II, IV.2), h_new = h fac err_n^-a err_{n-1}^b
+// with a = 0.7/k, b = 0.4/k for an error estimate of order k = 2 in h (the
+// difference of two paths of a first-order scheme), a safety factor,
+// limits on the change per step, no growth right after a rejection, and a floor.
+#include <algorithm>
+#include <cmath>
+
+#include "adaptive_step.hpp"
+
+namespace nscd {
+namespace {
+
+constexpr double kOrder = 2;  // k
+constexpr double kSafety = 0.9;
+constexpr double kMaxGrowth = 5, kMaxShrink = 0.2;
+// Errors below this count as this: a step with no error at all grows by kMaxGrowth
+// without the PI term's memory of it stalling the next one.
+constexpr double kErrorFloor = 1e-6;
+
+}  // namespace
+
+StepLengths stepLengths(const Settings& set) {
+  StepLengths lim;
+  lim.h_max = set.dt;
+  lim.h_min = std::min(set.dt, set.dt_min > 0 ? set.dt_min : 1e-6 * set.dt);
+  return lim;
+}
+
+double nextStepLength(const StepLengths& lim, double h, double error, double previous_error,
+                      bool after_rejection) {
+  const double e = std::max(error, kErrorFloor);
+  double factor = kSafety * std::pow(e, -0.7 / kOrder);
+  if (previous_error > 0) factor *= std::pow(std::max(previous_error, kErrorFloor), 0.4 / kOrder);
+  else factor = kSafety * std::pow(e, -1 / kOrder);  // no memory yet: the I controller
+  factor = std::clamp(factor, kMaxShrink, after_rejection ? 1.0 : kMaxGrowth);
+  return std::clamp(h * factor, lim.h_min, lim.h_max);
+}
+
+double retryStepLength(const StepLengths& lim, double h, double error) {
+  const double factor = std::isfinite(error) ? kSafety * std::pow(error, -1 / kOrder) : kMaxShrink;
+  return std::max(lim.h_min, h * std::clamp(factor, kMaxShrink, kSafety));
+}
+
+}  // namespace nscd

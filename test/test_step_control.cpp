@@ -1,0 +1,340 @@
+// Adaptive step control (Settings::step_control = adaptive; docs/step_control.md):
+// analytic cases followed to within their tolerance, the error against a converged
+// reference below the tolerance, events located, commands followed to their
+// corners, runs deterministic and restorable, and the fixed default untouched.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/scheduled_step.hpp"
+#include "nscd_sim/simulator.hpp"
+#include "physics_scenes.hpp"
+
+using namespace nscd;
+using namespace nscd_test;
+
+namespace {
+
+std::vector<SettingOverride> adaptive(double tol, double dt_max) {
+  return {{"step_control", "adaptive", "test"},
+          {"rtol", num(tol), "test"},
+          {"atol", num(tol), "test"},
+          {"dt", num(dt_max), "test"}};
+}
+
+Simulator makeSim(const std::string& xml, const std::vector<SettingOverride>& o) {
+  return Simulator(loadSceneFromString(xml, "test.urdf", o));
+}
+
+// theta'' = -k sin(theta), integrated by RK4 with steps of at most 1e-4 s: the
+// pendulum's converged reference (error ~1e-15 over seconds).
+class PendulumReference {
+ public:
+  PendulumReference(double k, double theta0) : k_(k), y_{theta0, 0} {}
+  // Angle and rate at time t >= the last time asked.
+  std::array<double, 2> at(double t) {
+    while (t_ < t) {
+      const double h = std::min(1e-4, t - t_);
+      auto f = [&](const std::array<double, 2>& y) { return std::array<double, 2>{y[1], -k_ * std::sin(y[0])}; };
+      auto add = [](const std::array<double, 2>& y, const std::array<double, 2>& d, double s) {
+        return std::array<double, 2>{y[0] + s * d[0], y[1] + s * d[1]};
+      };
+      const auto k1 = f(y_), k2 = f(add(y_, k1, h / 2)), k3 = f(add(y_, k2, h / 2)), k4 = f(add(y_, k3, h));
+      for (int i = 0; i < 2; ++i) y_[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+      t_ += h;
+    }
+    return y_;
+  }
+
+ private:
+  double k_;
+  std::array<double, 2> y_;
+  double t_ = 0;
+};
+
+struct RunCount {
+  long steps = 0, rejected = 0, extrapolated = 0;
+  double h_min = INFINITY, h_max = 0;
+};
+
+// Steps to `duration` as the front ends do (scheduled_step.hpp), calling
+// `each` after every step.
+RunCount runTo(Simulator& sim, double duration, const std::function<void()>& each = {}) {
+  RunCount c;
+  for (long k = 1; !runFinished(sim, k - 1, duration); ++k) {
+    prepareScheduledStep(sim, {}, k, duration);
+    EXPECT_EQ(sim.step(), StepStatus::Ok) << "at t = " << sim.state().t;
+    const StepStats& s = sim.stats();
+    ++c.steps;
+    c.rejected += s.rejected;
+    c.extrapolated += s.extrapolated;
+    c.h_min = std::min(c.h_min, s.h);
+    c.h_max = std::max(c.h_max, s.h);
+    if (each) each();
+  }
+  return c;
+}
+
+}  // namespace
+
+// The settings' names and values, and their refusals.
+TEST(StepControl, Settings) {
+  const std::string xml = pendulumScene(1, 1, 1e-3, 0.5, 1e-3);
+  EXPECT_EQ(loadSceneFromString(xml, "t.urdf").settings.step_control, StepControl::Fixed);
+  const Model m = loadSceneFromString(xml, "t.urdf",
+                                      {{"step_control", "adaptive", "s"}, {"rtol", "1e-5", "s"},
+                                       {"atol", "1e-7", "s"}, {"dt_min", "1e-9", "s"}});
+  EXPECT_EQ(m.settings.step_control, StepControl::Adaptive);
+  EXPECT_EQ(m.settings.rtol, 1e-5);
+  EXPECT_EQ(m.settings.atol, 1e-7);
+  EXPECT_EQ(m.settings.dt_min, 1e-9);
+  for (const SettingOverride& bad : {SettingOverride{"step_control", "variable", "--set"},
+                                     SettingOverride{"rtol", "1", "--set"},
+                                     SettingOverride{"atol", "0", "--set"},
+                                     SettingOverride{"dt_min", "-1", "--set"}}) {
+    try {
+      loadSceneFromString(xml, "t.urdf", {bad});
+      ADD_FAILURE() << bad.key << "=" << bad.value << " was accepted";
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find("--set: setting '" + bad.key + "'"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Fixed steps stay what they were: every step is dt, planStep ignores its limit,
+// nothing of the controller moves.
+TEST(StepControl, FixedIsTheDefaultAndUntouched) {
+  Simulator sim = makeSim(pendulumScene(1, 1, 1e-3, 0.5, 1e-3), {});
+  EXPECT_EQ(sim.planStep(1e-9), 1e-3);
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    EXPECT_EQ(sim.stats().h, 1e-3);
+    EXPECT_EQ(sim.stats().rejected, 0);
+    EXPECT_FALSE(sim.stats().extrapolated);
+  }
+  EXPECT_EQ(sim.state().step_next, 0);
+  EXPECT_EQ(sim.state().step_error, 0);
+  // The fixed step is the same with the setting spelled out.
+  Simulator spelled = makeSim(pendulumScene(1, 1, 1e-3, 0.5, 1e-3), {{"step_control", "fixed", "t"}});
+  for (int k = 0; k < 10; ++k) spelled.step();
+  EXPECT_EQ(spelled.state().bodies[0].x, sim.state().bodies[0].x);
+  EXPECT_EQ(spelled.state().bodies[0].q.coeffs(), sim.state().bodies[0].q.coeffs());
+}
+
+// An ideal pendulum released from 60 degrees, steps of up to 0.05 s: at the end of
+// every step its angle is within the tolerance of the converged reference over
+// 3 s (about 2 periods), and the steps shrink as the tolerance does.
+TEST(StepControl, PendulumFollowsTheReferenceWithinTolerance) {
+  const double l = 1, m = 1, I = 1e-3, g = 9.81, th0 = M_PI / 3;
+  long steps_prev = 0;
+  for (double tol : {1e-4, 1e-6}) {
+    Simulator sim = makeSim(pendulumScene(l, m, I, th0, 0.05), adaptive(tol, 0.05));
+    PendulumReference ref(m * g * l / (I + m * l * l), th0);
+    double worst = 0;
+    const RunCount c = runTo(sim, 3.0, [&] {
+      worst = std::max(worst, std::abs(sim.jointPosition(0) - ref.at(sim.state().t)[0]));
+    });
+    std::printf("[ figures  ] pendulum 60 deg, 3 s, tol %g: %ld steps (%ld rejected, %ld extrapolated), "
+                "h %.3g..%.3g s, max angle error %.3g rad\n",
+                tol, c.steps, c.rejected, c.extrapolated, c.h_min, c.h_max, worst);
+    EXPECT_LT(worst, tol);
+    EXPECT_EQ(c.extrapolated, c.steps);  // no contact: every step extrapolated
+    EXPECT_GT(c.steps, steps_prev);
+    EXPECT_LE(c.h_max, 0.05);
+    steps_prev = c.steps;
+  }
+}
+
+// A spring-mass oscillator (k = 100 N/m, m = 1 kg, 0.1 m): x(t) = 0.4 - A cos(w t)
+// over 3 periods. The tolerance bounds each step's error (LocalError below); over
+// ~400 steps the phase error adds up to about 40 tolerances here (the scheme is
+// second order on a linear oscillator, so the extrapolation only keeps that order
+// and doubles the fine path's error), and shrinks with the tolerance.
+TEST(StepControl, SpringMassFollowsCosine) {
+  const double m = 1, k = 100, A = 0.1, w = std::sqrt(k / m);
+  double prev = INFINITY;
+  for (double tol : {1e-5, 1e-6}) {
+    Simulator sim = makeSim(springMassScene(m, k, A, 0.01), adaptive(tol, 0.01));
+    double worst = 0;
+    const RunCount c = runTo(sim, 3 * 2 * M_PI / w, [&] {
+      const double x = sim.state().bodies[0].x.x();
+      worst = std::max(worst, std::abs(x - (0.4 + A * std::cos(w * sim.state().t))));
+    });
+    std::printf("[ figures  ] spring-mass, 3 periods, tol %g: %ld steps (%ld rejected), h %.3g..%.3g s, "
+                "max position error %.3g m\n", tol, c.steps, c.rejected, c.h_min, c.h_max, worst);
+    EXPECT_LT(worst, 100 * tol);
+    EXPECT_LT(worst, 0.3 * prev);
+    prev = worst;
+  }
+}
+
+// A ball dropped from 1 m with e = 0.9 on steps of up to 10 ms: apex heights
+// e^(2k) h0 to 1e-4 relative (fixed 0.1 ms steps: 0.5 % in test_physics), the
+// first impact located in time to within 1e-4 s of sqrt(2 h0 / g) (the step
+// that meets it is short: the controller shrinks around events), and the steps
+// that meet the impacts are not extrapolated.
+TEST(StepControl, BouncingBallApexHeightsAndImpactTime) {
+  const double h0 = 1.0, e = 0.9, r = 0.05, g = 9.81, tol = 1e-6;
+  Simulator sim = makeSim(ballScene(h0, e, 0.0, 0.01), adaptive(tol, 0.01));
+  std::vector<double> apex;
+  double prev_vz = 0, first_impact = -1, impact_h = 0;
+  long not_extrapolated = 0;
+  const RunCount c = runTo(sim, 2.3, [&] {
+    const BodyState& b = sim.state().bodies[0];
+    if (prev_vz > 0 && b.v.z() <= 0) apex.push_back(b.x.z() - r + b.v.z() * b.v.z() / (2 * g));
+    if (prev_vz < 0 && b.v.z() > 0 && first_impact < 0) {
+      first_impact = sim.state().t;
+      impact_h = sim.stats().h;
+    }
+    not_extrapolated += !sim.stats().extrapolated;
+    prev_vz = b.v.z();
+  });
+  std::printf("[ figures  ] ball e=0.9, tol %g: %ld steps (%ld rejected, %ld not extrapolated), h %.3g..%.3g s; "
+              "first impact at %.7f s (exact %.7f, its step %.3g s); apexes",
+              tol, c.steps, c.rejected, not_extrapolated, c.h_min, c.h_max, first_impact,
+              std::sqrt(2 * h0 / g), impact_h);
+  for (double a : apex) std::printf(" %.6f", a);
+  std::printf(" m\n");
+  ASSERT_GE(apex.size(), 2u);
+  for (size_t k = 0; k < apex.size(); ++k) {
+    const double expected = h0 * std::pow(e, 2 * (k + 1));
+    EXPECT_NEAR(apex[k], expected, 1e-4 * expected) << "bounce " << k + 1;
+  }
+  EXPECT_NEAR(first_impact, std::sqrt(2 * h0 / g), 1e-4);
+  EXPECT_LT(impact_h, 1e-4);
+  EXPECT_GE(not_extrapolated, 2);  // the impacts
+  EXPECT_LT(c.steps, 2.3 / 1e-3);
+}
+
+// The four-bar (ideal joints, a loop) driven by its initial crank rate: against a
+// converged reference (adaptive at 1e-8), every body's position after 0.2 s is
+// within the tolerance (the scheme is first order on it: the extrapolation raises
+// the kept answer to second order while the estimate stays that of the first).
+TEST(StepControl, FourBarErrorBelowToleranceAgainstConvergedReference) {
+  auto finalState = [](double tol, RunCount* count) {
+    Simulator sim = makeSim(fourBarScene(M_PI / 2, 5.0, 0.01), adaptive(tol, 0.01));
+    const RunCount c = runTo(sim, 0.2);
+    if (count) *count = c;
+    return sim.state();
+  };
+  const State ref = finalState(1e-8, nullptr);
+  double prev = INFINITY;
+  for (double tol : {1e-3, 1e-4, 1e-5}) {
+    RunCount c;
+    const State s = finalState(tol, &c);
+    double err = 0;
+    for (size_t i = 0; i < s.bodies.size(); ++i) err = std::max(err, (s.bodies[i].x - ref.bodies[i].x).norm());
+    std::printf("[ figures  ] four-bar 0.2 s, tol %g: %ld steps (%ld rejected), h %.3g..%.3g s, "
+                "position error vs tol 1e-8: %.3g m\n", tol, c.steps, c.rejected, c.h_min, c.h_max, err);
+    EXPECT_LT(err, tol);
+    EXPECT_LT(err, prev);
+    prev = err;
+  }
+}
+
+// Each step's own error: from the State a step starts at, a converged reference
+// (fixed steps of h/512 over the step's length h) and the adaptive step's answer
+// differ in every position, velocity and angular velocity component by less than
+// atol + rtol |value|: the promise of the tolerance, on a pendulum, a spring-mass
+// and the four-bar, every 10th step.
+TEST(StepControl, LocalErrorBelowTolerance) {
+  const double tol = 1e-6;
+  const std::vector<std::pair<std::string, std::string>> scenes = {
+      {"pendulum", pendulumScene(1, 1, 1e-3, M_PI / 3, 0.05)},
+      {"spring-mass", springMassScene(1, 100, 0.1, 0.01)},
+      {"four-bar", fourBarScene(M_PI / 2, 5.0, 0.01)}};
+  for (const auto& [name, xml] : scenes) {
+    Simulator sim = makeSim(xml, adaptive(tol, 0.01));
+    double worst = 0;
+    long k = 0;
+    State start = sim.state();
+    runTo(sim, 0.3, [&] {
+      if (k++ % 10 == 0) {
+        const double h = sim.stats().h;
+        Simulator ref = makeSim(xml, {{"dt", num(h / 512), "test"}});
+        ref.setState(start);
+        for (int i = 0; i < 512; ++i) ref.step();
+        for (size_t b = 0; b < start.bodies.size(); ++b) {
+          const BodyState& x = sim.state().bodies[b];
+          const BodyState& r = ref.state().bodies[b];
+          const Vec3 wx = x.q * x.w, wr = r.q * r.w;
+          for (int c = 0; c < 3; ++c)
+            for (auto [u, v] : {std::pair{x.x[c], r.x[c]}, {x.v[c], r.v[c]}, {wx[c], wr[c]}})
+              worst = std::max(worst, std::abs(u - v) / (tol + tol * std::max(std::abs(u), std::abs(v))));
+        }
+      }
+      start = sim.state();
+    });
+    std::printf("[ figures  ] %s, tol %g: largest local error of a step / tolerance %.3g\n", name.c_str(), tol,
+                worst);
+    EXPECT_LT(worst, 1.0) << name;
+  }
+}
+
+// Same input, same bits; a run saved with state() and continued on another
+// simulator with setState() continues bit for bit (the controller's memory is in
+// the State); reset() starts over to the same bits.
+TEST(StepControl, DeterministicAndRestorable) {
+  const std::string xml = clearancePendulumScene(50e-6, 0.1, 2e-3, 0.1, 0.5, 1e-3, true, "false");
+  const auto o = adaptive(1e-5, 1e-3);
+  Simulator a = makeSim(xml, o), b = makeSim(xml, o);
+  runTo(a, 0.05);
+  runTo(b, 0.05);
+  const State mid = a.state();
+  EXPECT_GT(mid.step_next, 0);
+  EXPECT_EQ(mid.t, b.state().t);
+  for (size_t i = 0; i < mid.bodies.size(); ++i) {
+    EXPECT_EQ(mid.bodies[i].x, b.state().bodies[i].x);
+    EXPECT_EQ(mid.bodies[i].v, b.state().bodies[i].v);
+  }
+  runTo(a, 0.1);
+  Simulator c = makeSim(xml, o);
+  c.setState(mid);
+  runTo(c, 0.1);
+  EXPECT_EQ(a.state().t, c.state().t);
+  EXPECT_EQ(a.state().step_next, c.state().step_next);
+  for (size_t i = 0; i < mid.bodies.size(); ++i) {
+    EXPECT_EQ(a.state().bodies[i].x, c.state().bodies[i].x);
+    EXPECT_EQ(a.state().bodies[i].q.coeffs(), c.state().bodies[i].q.coeffs());
+    EXPECT_EQ(a.state().bodies[i].w, c.state().bodies[i].w);
+  }
+  a.reset();
+  runTo(a, 0.05);
+  EXPECT_EQ(a.state().t, mid.t);
+  EXPECT_EQ(a.state().bodies[0].x, mid.bodies[0].x);
+  State bad = mid;
+  bad.step_next = -1;
+  EXPECT_THROW(c.setState(bad), std::invalid_argument);
+}
+
+// A prescribed motion with a corner in its schedule: a step ends exactly at the
+// corner and at the end of the run, and the joint follows the schedule there.
+TEST(StepControl, StepsEndAtScheduleCornersAndTheEnd) {
+  const std::string xml = fourBarScene(M_PI / 2, 0.0, 1e-3);
+  // Drive the crank joint j1 with a prescribed motion.
+  std::string driven = xml;
+  const std::string tag = "<nscd><simulation";
+  driven.replace(driven.find(tag), 0,
+                 "<nscd><actuator name=\"drive\" type=\"prescribed\" joint=\"j1\"/></nscd>\n  ");
+  Simulator sim = makeSim(driven, adaptive(1e-6, 1e-2));
+  const std::vector<BoundSchedule> sched = bindCommandSchedules({"drive=0:0,0.0137:0.2,0.05:0.2"}, sim.model());
+  applySchedules(sched, 0.0, sim);
+  bool corner_hit = false;
+  double worst = 0;
+  for (long k = 1; !runFinished(sim, k - 1, 0.03); ++k) {
+    const double end = prepareScheduledStep(sim, sched, k, 0.03);
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    corner_hit = corner_hit || sim.state().t == 0.0137;
+    if (sim.state().t == end)  // a step kept whole ends where planned, on the schedule
+      worst = std::max(worst, std::abs(sim.jointPosition(0) - sched[0].schedule.value(end)));
+  }
+  EXPECT_TRUE(corner_hit);
+  EXPECT_EQ(sim.state().t, 0.03);
+  EXPECT_LT(worst, 1e-9);
+}
