@@ -1,7 +1,8 @@
 // Stage 8: step halving. A step whose friction-contact problem the solver leaves
 // unsolved is taken again from its start as two steps of h/2, each halved again
-// while unsolved (Simulator::step, Settings::max_step_halvings); the fallbacks
-// that change the physics (impact_safeguards.cpp) wait for the smallest step.
+// while unsolved (Simulator::step, Settings::max_step_halvings): the Halving row
+// of the rescue policy (rescue_policy.cpp), whose later rescues wait for the
+// smallest step.
 // Why: within one step a light link can cross a tight bearing, so that contacts
 // on both sides of it enter one problem with Newton's law on each; such a problem
 // may have no solution at all (stress case 939: not strictly feasible, and no
@@ -40,6 +41,7 @@ void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepSta
   total.rows = sub.rows;
   total.projection_passes += sub.projection_passes;
   total.projection_least_distance += sub.projection_least_distance;
+  total.cold_retry = total.cold_retry || sub.cold_retry;
   total.plastic_fallback = total.plastic_fallback || sub.plastic_fallback;
   total.late_contacts += sub.late_contacts;
   total.plastic_retry = total.plastic_retry || sub.plastic_retry;
