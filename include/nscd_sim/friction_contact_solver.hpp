@@ -55,12 +55,6 @@ struct ProblemBlock {
 // studies).
 enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
 
-struct SolverOptions {
-  double tolerance = 1e-8;   // on the normalised error (see solverError)
-  int max_iterations = 200;  // bounds the NSGS sweeps, and separately the Newton iterations
-  SolverMethod method = SolverMethod::Auto;
-};
-
 // The stages of a solve (solver_schedule.cpp, docs/solver.md), in the order the
 // schedule runs them; SolverReport::stage names the one that gave the answer.
 enum class SolverStage : std::uint8_t {
@@ -83,6 +77,15 @@ enum class SolverStage : std::uint8_t {
 constexpr int kSolverStageCount = 15;
 // "no_rows", "local_solver", "warm_start", "sweeps", ... (snake case of the above).
 const char* solverStageName(SolverStage stage);
+
+struct SolverOptions {
+  double tolerance = 1e-8;   // on the normalised error (see solverError)
+  int max_iterations = 200;  // bounds the NSGS sweeps, and separately the Newton iterations
+  SolverMethod method = SolverMethod::Auto;
+  // Bit s set: the schedule's rows of SolverStage s are skipped (solver studies:
+  // what the others do without it; nscd_solve_problems --skip-stage).
+  std::uint32_t skip_stages = 0;
+};
 
 struct SolverReport {
   int iterations = 0;         // sweeps + newton_iterations + interior_point_iterations

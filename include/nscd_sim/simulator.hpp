@@ -2,6 +2,7 @@
 // nscd_run, the ROS node, the benchmarks and the tests all drive this class.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -102,6 +103,10 @@ struct StepStats {
   // those of the last.
   int substeps = 1;
   int halvings = 0;
+  // How many of the step's friction-contact solves each stage of the solver's
+  // schedule finished (SolverReport::stage; index: SolverStage), the rescues'
+  // solves and those of the attempts a halving dropped included.
+  std::array<int, kSolverStageCount> solves_by_stage{};
 };
 
 // The rescues of a step whose friction-contact problem goes wrong, one ordered

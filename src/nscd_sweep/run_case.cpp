@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "csv_writer.hpp"
+#include "problem_dump.hpp"
 #include "run_summary.hpp"
 
 #include "nscd_sim/scene_loader.hpp"
@@ -36,7 +37,13 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
     r.energy_initial = sim.energy().total();
     double e_prev = r.energy_initial;
     long iters_sum = 0;
-    for (long k = 1; k <= steps; ++k) {
+    long k = 0;
+    std::unique_ptr<ProblemDump> dump;
+    if (!opts.dump_dir.empty()) {
+      dump = std::make_unique<ProblemDump>(opts.dump_dir, opts.dump_when, opts.dump_prefix);
+      sim.setProblemObserver([&](const ProblemView& v) { dump->write(v, k); });
+    }
+    for (k = 1; k <= steps; ++k) {
       applySchedules(opts.schedules, k * h, sim);  // the command at the end of the step
       const StepStatus st = sim.step();
       const StepStats& s = sim.stats();
@@ -58,6 +65,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
         r.fallback_loss_max = std::max(r.fallback_loss_max, -s.fallback_kinetic_change);
       }
       r.energy_capped_steps += s.energy_capped;
+      r.counts.addStep(s);
       if (st == StepStatus::NonFinite) {
         r.status = "nonfinite";
         break;
@@ -81,6 +89,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       e_prev = e;
       if (writer && k % every == 0) writer->writeRow(sim);
     }
+    if (dump) r.problems_written = dump->written();
     r.sim_time = sim.state().t;
     r.energy_final = sim.energy().total();
     r.iters_mean = r.steps > 0 ? static_cast<double>(iters_sum) / r.steps : 0.0;
@@ -103,6 +112,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       js.max_penetration = r.max_penetration;
       js.energy_initial = r.energy_initial;
       js.energy_final = r.energy_final;
+      js.counts = r.counts;
       std::ofstream f(opts.summary_json);
       f << runSummaryJson(js) << "\n";
       if (!f) throw std::runtime_error(opts.summary_json + ": cannot write");

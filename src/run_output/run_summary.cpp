@@ -32,7 +32,7 @@ std::string runSummaryJson(const RunSummary& r) {
          ",\"energy_capped_steps\":" + std::to_string(r.energy_capped_steps) +
          ",\"max_penetration\":" + jsonNumber(r.max_penetration) +
          ",\"energy_initial\":" + jsonNumber(r.energy_initial) +
-         ",\"energy_final\":" + jsonNumber(r.energy_final) + "}";
+         ",\"energy_final\":" + jsonNumber(r.energy_final) + "," + r.counts.jsonFields() + "}";
 }
 
 }  // namespace nscd

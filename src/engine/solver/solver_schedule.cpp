@@ -90,7 +90,8 @@ bool scheduleUsesNewton(SolverMethod method, int m) {
 bool solveBySchedule(SolveRun& run) {
   const Schedule schedule = scheduleFor(run.options.method, run.problem.m);
   for (const Stage* stage = schedule.begin; stage != schedule.end; ++stage) {
-    if (stage->when && !stage->when(run)) continue;
+    if ((run.options.skip_stages >> static_cast<int>(stage->stage) & 1) || (stage->when && !stage->when(run)))
+      continue;
     beginStage(run, stage->start);
     switch (stage->run(run, *stage)) {
       case StageOutcome::Solved:

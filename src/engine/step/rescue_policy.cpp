@@ -71,6 +71,7 @@ SolverReport solveAgain(RescueContext& c, const char* kind, const SolverOptions&
   const ResolveObserver& o = c.observe;
   if (o.fn) ws.P_start.head(r) = ws.P.head(r);
   const SolverReport again = ws.solver.solve(W, b, ws.problem, with, ws.P.head(r));
+  ++c.st.solves_by_stage[static_cast<int>(again.stage)];
   if (o.fn)
     (*o.fn)(ProblemView{o.t, o.round, W, b, ws.problem, ws.P_start.head(r), ws.P.head(r), again,
                         o.halvings, o.substep, kind});
@@ -266,6 +267,7 @@ SolverReport solveWithRescues(const Model& m, StepWorkspace& ws, const SolverOpt
   RescueContext c{m, ws, st, observe, may_halve, options, SolverReport()};
   if (observe.fn) ws.P_start.head(r) = ws.P.head(r);
   c.rep = ws.solver.solve(W, b, ws.problem, c.options, ws.P.head(r));
+  ++st.solves_by_stage[static_cast<int>(c.rep.stage)];
   applyImpulses(ws);
   if (observe.fn)
     (*observe.fn)(ProblemView{observe.t, observe.round, W, b, ws.problem, ws.P_start.head(r), ws.P.head(r), c.rep,

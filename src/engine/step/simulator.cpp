@@ -99,7 +99,7 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
           half == 0 ? 0.5 * (state_.prev_commands[i] + end_command[i]) : end_command[i];
     StepStatus s = advance(0.5 * h, level, 2 * index + half);
     if (s == StepStatus::NotConverged && level < max_level) {
-      total.iterations += out_->stats.iterations;  // the dropped attempt's work
+      addDroppedAttempt(out_->stats, total);
       s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
     } else {
       addSubstep(out_->stats, level, *out_, total, *refine_out_);

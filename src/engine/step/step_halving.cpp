@@ -22,10 +22,15 @@ double largerChange(double a, double b) { return std::abs(b) > std::abs(a) ? b :
 
 }  // namespace
 
+void addDroppedAttempt(const StepStats& attempt, StepStats& total) {
+  total.iterations += attempt.iterations;
+  for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += attempt.solves_by_stage[s];
+}
+
 void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc) {
   total = StepStats();
-  total.iterations = attempt.iterations;
   total.substeps = 0;
+  addDroppedAttempt(attempt, total);
   std::fill(acc.actuator_effort.begin(), acc.actuator_effort.end(), 0.0);
   std::fill(acc.pair_fn.begin(), acc.pair_fn.end(), 0.0);
   std::fill(acc.pair_ft_vec.begin(), acc.pair_ft_vec.end(), Vec3::Zero());
@@ -35,6 +40,7 @@ void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& ac
 void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepStats& total,
                 StepOutputs& acc) {
   total.iterations += sub.iterations;
+  for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += sub.solves_by_stage[s];
   if (!(sub.residual <= total.residual)) total.residual = sub.residual;  // NaN stays
   total.converged = total.converged && sub.converged;
   total.active_contacts = sub.active_contacts;

@@ -169,6 +169,8 @@ double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const 
 // as substeps (Simulator::step); their stats and outputs are gathered here.
 // The unsolved attempt: its work goes into `total`, the accumulated outputs start at 0.
 void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc);
+// An attempt a halving drops: its work (iterations, solves) counted in `total`.
+void addDroppedAttempt(const StepStats& attempt, StepStats& total);
 // A substep kept, of length dt / 2^level: its stats into `total`, its
 // actuator efforts and contact forces (impulse / its length) into `acc`, as
 // their share of the step's impulse.
