@@ -1,8 +1,9 @@
 // nscd_solve_problems: solves friction-contact problem files (nscd_run
 // --dump-problems) with FrictionContactSolver and prints, per file, whether it
-// converged, the iterations, the residual and the time; a solver study tool.
-//   nscd_solve_problems [--tol 1e-8] [--max-iter 200] [--method auto|nsgs|newton]
-//                       [--cold] [--repeat N] FILE...
+// converged, the iterations, the residual, the solver stage that gave the answer
+// and the time, then how many problems each stage finished; a solver study tool.
+//   nscd_solve_problems [--tol 1e-8] [--max-iter 200] [--method auto|nsgs|newton|prox]
+//                       [--cold] [--repeat N] [--skip-stage NAME]... FILE...
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
   std::string method = "auto";
   bool cold = false, worst_blocks = false;
   std::string solution_dir;
+  std::vector<std::string> skip;
   app.add_option("files", files, "problem files")->required();
   app.add_option("--tol", tol, "tolerance (normalised residual)");
   app.add_option("--max-iter", max_iter, "solver budget");
@@ -30,6 +32,7 @@ int main(int argc, char** argv) {
   app.add_option("--write-solutions", solution_dir, "write each answer P (one number per line) to DIR/FILE.P");
   app.add_flag("--worst-blocks", worst_blocks, "print the 4 blocks of largest error after each solve");
   app.add_option("--repeat", repeat, "solves per file for the timing (the fastest is shown)");
+  app.add_option("--skip-stage", skip, "leave this stage of the solver's schedule out (docs/solver.md; repeatable)");
   CLI11_PARSE(app, argc, argv);
 
   nscd::SolverOptions opt;
@@ -39,12 +42,22 @@ int main(int argc, char** argv) {
                : method == "newton" ? nscd::SolverMethod::Newton
                : method == "prox"   ? nscd::SolverMethod::ProximalNewton
                                     : nscd::SolverMethod::Auto;
+  for (const std::string& name : skip) {
+    int st = 0;
+    while (st < nscd::kSolverStageCount && name != nscd::solverStageName(static_cast<nscd::SolverStage>(st))) ++st;
+    if (st == nscd::kSolverStageCount) {
+      std::fprintf(stderr, "nscd_solve_problems: --skip-stage %s: no such stage (docs/solver.md)\n", name.c_str());
+      return 2;
+    }
+    opt.skip_stages |= 1u << st;
+  }
   nscd::FrictionContactSolver solver;
+  long finished[nscd::kSolverStageCount] = {};
   int solved = 0;
   long iters = 0;
   double total_us = 0;
-  std::printf("%-28s %5s %6s %9s %6s %6s %10s %10s\n", "file", "rows", "conv", "iters", "sweeps",
-              "newton", "residual", "us");
+  std::printf("%-28s %5s %6s %9s %6s %6s %10s %-16s %10s\n", "file", "rows", "conv", "iters", "sweeps",
+              "newton", "residual", "stage", "us");
   for (const std::string& f : files) {
     nscd::ProblemFile p;
     try {
@@ -63,9 +76,10 @@ int main(int argc, char** argv) {
                                 std::chrono::steady_clock::now() - t0).count());
     }
     const std::string name = f.substr(f.find_last_of('/') + 1);
-    std::printf("%-28s %5d %6s %9d %6d %6d %10.3g %10.1f\n", name.c_str(), int(p.b.size()),
+    std::printf("%-28s %5d %6s %9d %6d %6d %10.3g %-16s %10.1f\n", name.c_str(), int(p.b.size()),
                 rep.converged ? "yes" : "NO", rep.iterations, rep.sweeps, rep.newton_iterations,
-                rep.residual, best);
+                rep.residual, nscd::solverStageName(rep.stage), best);
+    ++finished[static_cast<int>(rep.stage)];
     if (!solution_dir.empty()) {
       Eigen::VectorXd P = cold ? Eigen::VectorXd::Zero(p.b.size()) : p.P_start;
       solver.solve(p.W, p.b, p.blocks, opt, P);
@@ -104,6 +118,9 @@ int main(int argc, char** argv) {
     iters += rep.iterations;
     total_us += best;
   }
-  std::printf("solved %d of %zu, iterations %ld, time %.1f us\n", solved, files.size(), iters, total_us);
+  std::printf("stages:");
+  for (int st = 0; st < nscd::kSolverStageCount; ++st)
+    if (finished[st] > 0) std::printf(" %s %ld", nscd::solverStageName(static_cast<nscd::SolverStage>(st)), finished[st]);
+  std::printf("\nsolved %d of %zu, iterations %ld, time %.1f us\n", solved, files.size(), iters, total_us);
   return 0;
 }

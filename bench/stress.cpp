@@ -1,8 +1,11 @@
 // nscd_stress: the stress suite and the long soak.
 //
 //   nscd_stress [--runs N] [--seed S] [--steps K] [--jobs J] [--csv FILE]
+//               [--dump-problems DIR [--dump-when W]]
 //     N randomised clearance pendulums (stress_cases.hpp), K steps each (default 1000); one CSV
-//     row per run (no wall times: reruns compare byte for byte); a summary on stdout.
+//     row per run (no wall times: reruns compare byte for byte); a summary on stdout with the
+//     solves each solver stage finished and the steps each rescue took (docs/solver.md).
+//     --dump-problems: the problems W chooses (as nscd_run's --dump-when), caseK_stepN_....txt.
 //   nscd_stress --case K [--seed S] --write FILE.urdf
 //     writes case K's scene and prints the nscd_run command that replays it.
 //   nscd_stress --soak STEPS [--soak-scene FILE] [--sample-every N] [--soak-csv FILE]
@@ -29,6 +32,7 @@
 #include "../src/nscd_sweep/parallel_for.hpp"
 #include "../src/nscd_sweep/run_case.hpp"
 #include "../src/nscd_sweep/stress_cases.hpp"
+#include "problem_dump.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 
@@ -139,7 +143,7 @@ int main(int argc, char** argv) {
   long runs = 1000, steps = 1000, first = 0, soak_steps = 0, sample_every = 10000, case_k = -1;
   unsigned long long seed = 1;
   int jobs = defaultJobs();
-  std::string csv, write, soak_scene, soak_csv;
+  std::string csv, write, soak_scene, soak_csv, dump_dir, dump_when = "unconverged";
   bool quiet = false, violation = false;
   app.add_option("--runs", runs, "number of randomised runs (default 1000)");
   app.add_option("--first", first, "index of the first case (default 0)");
@@ -155,6 +159,9 @@ int main(int argc, char** argv) {
   app.add_option("--soak-csv", soak_csv, "soak: write the memory samples to this CSV");
   app.add_flag("--violation", violation, "also call Simulator::constraintViolation() every step");
   app.add_flag("--quiet", quiet, "no progress on standard error");
+  app.add_option("--dump-problems", dump_dir, "write friction-contact problems to this folder");
+  app.add_option("--dump-when", dump_when,
+                 "which: unconverged (default), all, N (every Nth step) or stage=NAME[,NAME...]");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -165,6 +172,12 @@ int main(int argc, char** argv) {
   }
   if (runs < 0 || steps < 1 || jobs < 1 || sample_every < 1) {
     std::cerr << "nscd_stress: --runs >= 0, --steps >= 1, --jobs >= 1, --sample-every >= 1" << std::endl;
+    return 2;
+  }
+  try {
+    nscd::ProblemDump check(dump_dir, dump_when);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "nscd_stress: --dump-when " << e.what() << std::endl;
     return 2;
   }
   if (soak_steps > 0) {
@@ -195,6 +208,9 @@ int main(int argc, char** argv) {
       CaseOptions opt;
       opt.duration = steps * r.c.dt;
       opt.measure_violation = violation;
+      opt.dump_dir = dump_dir;
+      opt.dump_when = dump_when;
+      opt.dump_prefix = "case" + std::to_string(r.c.index) + "_";
       r.m = runCase(m, opt);
     } catch (const std::exception& e) {
       r.m.status = std::string("error: ") + e.what();
@@ -226,9 +242,13 @@ int main(int argc, char** argv) {
   long longer = 0;                      // steps whose last solve took 10 times the budget
   int substeps_max = 1;                 // the most substeps one step took
   double pen_max = 0, viol_max = 0, gain_max = -1e300, unconv_res = 0;
+  nscd::StageCounts counts;  // solves per solver stage, steps per rescue
+  long dumped = 0;
   long worst_pen = -1, worst_gain = -1, first_failed = -1;
   for (const Row& r : rows) {
     total_steps += r.m.steps;
+    counts.add(r.m.counts);
+    dumped += r.m.problems_written;
     if (r.m.status != "ok") {
       ++failed;
       if (first_failed < 0) first_failed = r.c.index;
@@ -262,9 +282,11 @@ int main(int argc, char** argv) {
       "\"halved_steps\":%ld,\"substeps_max\":%d,\"longer_solve_steps\":%ld,"
       "\"plastic_retry_steps\":%ld,\"retry_kinetic_gain_max\":%.3g,\"retry_kinetic_loss_max\":%.3g,"
       "\"frictionless_fallback_steps\":%ld,\"fallback_kinetic_gain_max\":%.3g,"
-      "\"fallback_kinetic_loss_max\":%.3g,\"energy_capped_steps\":%ld}\n",
+      "\"fallback_kinetic_loss_max\":%.3g,\"energy_capped_steps\":%ld,%s}\n",
       runs, seed, steps, total_steps, wall, failed, first_failed, pen_max, worst_pen, pen_bad,
       viol_max, gain_max, worst_gain, gain_bad, kEnergyGainRel, unconv_runs, unconv_steps, unconv_res,
-      halved, substeps_max, longer, retries, rt_gain, rt_loss, frictionless, fb_gain, fb_loss, capped);
+      halved, substeps_max, longer, retries, rt_gain, rt_loss, frictionless, fb_gain, fb_loss, capped,
+      counts.jsonFields().c_str());
+  if (!dump_dir.empty()) std::cerr << "nscd_stress: " << dumped << " problems written to " << dump_dir << std::endl;
   return failed == 0 && pen_bad == 0 && gain_bad == 0 ? 0 : 1;
 }

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <regex>
+#include <set>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -966,12 +968,14 @@ struct StoredSolve {
   VectorXd P;
   SolverReport r;
 };
-StoredSolve solveStored(const std::string& name, int max_iterations, bool cold) {
+StoredSolve solveStored(const std::string& name, int max_iterations, bool cold,
+                        std::initializer_list<SolverStage> skip = {}) {
   StoredSolve out{readProblemFile(nscd_test::sourceDir() + "/test/problems/" + name), {}, {}};
   FrictionContactSolver s;
   SolverOptions o;
   o.tolerance = 1e-8;
   o.max_iterations = max_iterations;
+  for (SolverStage st : skip) o.skip_stages |= 1u << static_cast<int>(st);
   out.P = cold ? VectorXd::Zero(out.p.b.size()) : out.p.P_start;
   out.r = s.solve(out.p.W, out.p.b, out.p.blocks, o, out.P);
   return out;
@@ -981,15 +985,21 @@ StoredSolve solveStored(const std::string& name, int max_iterations, bool cold) 
 
 // A C-60 handle step (docs/fclib.md: the FCLib form, the probe's bilateral rows
 // condensed out; written by `nscd_fclib --to-nscd`), 20 contacts on a
-// hyperstatic set, solved cold with the FCLib harness's budget. Every stage
-// before the long last-resort Newton ends between 1e-7 and 1e-6 here; that
-// Newton, with the regularisation floor of 1e-10 of diag(W) the short
-// attempts use, cycles and ends at 1.06e-7.
+// hyperstatic set, solved cold with the FCLib harness's budget. The proximal
+// Newton solves it; without it, every stage before the long last-resort Newton
+// ends short of the tolerance, and that Newton, whose Jacobian regularisation
+// floor is 100 times the short attempts' (with theirs it cycles), converges.
 TEST(Newton, LastResortConvergesOnC60HandleStep) {
   const StoredSolve x = solveStored("c60_handle_dt1e-5_step638.txt", 10000, true);
   ASSERT_EQ(x.p.W.rows(), 60);
   EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_EQ(x.r.stage, SolverStage::ProximalTrial) << solverStageName(x.r.stage);
   EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
+  const StoredSolve y = solveStored("c60_handle_dt1e-5_step638.txt", 10000, true,
+                                    {SolverStage::ProximalTrial, SolverStage::ProximalNewton});
+  EXPECT_TRUE(y.r.converged) << y.r.residual;
+  EXPECT_EQ(y.r.stage, SolverStage::LongNewton) << solverStageName(y.r.stage);
+  EXPECT_LE(solverError(y.p.W, y.p.b, y.P, y.p.blocks), 1e-8);
 }
 
 // A problem the stress suite left unsolved (case 446: two links, mu 0.99, 5
@@ -1003,6 +1013,7 @@ TEST(ProximalNewton, InnerProblemsAreHeldToTheOuterScale) {
   const StoredSolve x = solveStored("stress_case446_step402.txt", 200, false);  // the run's budget and warm start
   ASSERT_EQ(x.p.W.rows(), 15);
   EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_EQ(x.r.stage, SolverStage::ProximalTrial) << solverStageName(x.r.stage);
   EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
   // Inside the cones, to the tolerance (the error bounds the distance from them,
   // in units of max(1, |b|)).
@@ -1090,8 +1101,64 @@ TEST(ConeFixedPoint, SolvesAStressProblemTheNewtonStagesFail) {
   const StoredSolve x = solveStored("stress_case384_step186.txt", 1000, false);  // the run's warm start
   ASSERT_EQ(x.p.W.rows(), 15);
   EXPECT_TRUE(x.r.converged) << x.r.residual;
+  EXPECT_EQ(x.r.stage, SolverStage::ConeFixedPoint) << solverStageName(x.r.stage);
   EXPECT_GT(x.r.interior_point_iterations, 0);
   EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8);
   for (const ProblemBlock& bl : x.p.blocks)  // inside the cones, to round-off
     EXPECT_LE(x.P.segment<2>(bl.row + 1).norm(), bl.mu * x.P(bl.row) * (1 + 1e-9) + 1e-15 * x.P.norm());
+}
+
+// The report names the stage that gave the answer: no rows, a single contact by
+// the local solver alone, a warm start that is already a solution, a
+// non-finite problem, and a budget too small for any stage.
+TEST(SolverStage, ReportNamesTheStageThatGaveTheAnswer) {
+  FrictionContactSolver s;
+  SolverOptions o;
+  VectorXd P0;
+  EXPECT_EQ(s.solve(MatrixXd(0, 0), VectorXd(0), {}, o, P0).stage, SolverStage::NoRows);
+
+  Matrix3d W1;
+  W1 << 2, 0.3, 0.1, 0.3, 1.5, 0.2, 0.1, 0.2, 1.8;
+  VectorXd b1(3), P1 = VectorXd::Zero(3);
+  b1 << -1, 0.2, 0.1;
+  const std::vector<ProblemBlock> one{{BlockKind::Frictional, 0, 3, 0.5}};
+  SolverReport r = s.solve(W1, b1, one, o, P1);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.stage, SolverStage::LocalSolver) << solverStageName(r.stage);
+
+  // A box on its four corners (12 rows): solved, then again from its answer.
+  const BoxOnPlane box;
+  const MatrixXd W = box.W();
+  const VectorXd b = box.b(Eigen::Matrix<double, 6, 1>::Zero());
+  std::vector<ProblemBlock> blocks;
+  for (int k = 0; k < 4; ++k) blocks.push_back({BlockKind::Frictional, 3 * k, 3, 0.5});
+  VectorXd P = VectorXd::Zero(12);
+  r = s.solve(W, b, blocks, o, P);
+  ASSERT_TRUE(r.converged);
+  EXPECT_NE(r.stage, SolverStage::WarmStart);
+  EXPECT_EQ(s.solve(W, b, blocks, o, P).stage, SolverStage::WarmStart);
+
+  P.setZero();
+  SolverOptions tight = o;
+  tight.method = SolverMethod::NSGS;
+  tight.max_iterations = 1;
+  tight.tolerance = 1e-14;
+  r = s.solve(W, b, blocks, tight, P);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.stage, SolverStage::Unsolved);
+
+  MatrixXd Wbad = W;
+  Wbad(1, 2) = NAN;
+  EXPECT_EQ(s.solve(Wbad, b, blocks, o, P).stage, SolverStage::Failed);
+}
+
+TEST(SolverStage, NamesAreDistinctSnakeCase) {
+  std::set<std::string> names;
+  for (int i = 0; i < kSolverStageCount; ++i) {
+    const std::string n = solverStageName(static_cast<SolverStage>(i));
+    EXPECT_TRUE(std::regex_match(n, std::regex("[a-z_]+"))) << n;
+    names.insert(n);
+  }
+  EXPECT_EQ(int(names.size()), kSolverStageCount);
+  EXPECT_EQ(std::string(solverStageName(SolverStage::ConeFixedPoint)), "cone_fixed_point");
 }

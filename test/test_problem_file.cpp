@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -89,4 +90,56 @@ TEST(ProblemFile, NscdRunDumpsAndRefusesBadDumpOptions) {
   EXPECT_EQ(where.status, 2);
   EXPECT_NE(where.err.find("not a writable folder"), std::string::npos) << where.err;
   std::system((std::string("rm -rf ") + dir).c_str());
+}
+
+namespace {
+
+// The count of stage `name` in the "solver_stages" object of an nscd_run summary (-1: absent).
+long stageCount(const std::string& json, const std::string& name) {
+  const size_t block = json.find("\"solver_stages\":{");
+  if (block == std::string::npos) return -1;
+  const size_t at = json.find("\"" + name + "\":", block);
+  if (at == std::string::npos || at > json.find('}', block)) return -1;
+  return std::stol(json.substr(at + name.size() + 3));
+}
+
+long filesIn(const std::string& dir) {
+  long n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) n += entry.is_regular_file();
+  return n;
+}
+
+}  // namespace
+
+// nscd_run's summary counts every solve under the stage that finished it: with
+// --dump-when all it writes as many problems as the counts add up to, with
+// --dump-when stage=NAME as many as that stage finished.
+TEST(ProblemFile, SummaryCountsEverySolveByItsStage) {
+  const std::string scene = nscd_test::scenePath("urdf/clearance_pendulum.urdf");
+  char all[] = "/tmp/nscd_dumpXXXXXX", one[] = "/tmp/nscd_dumpXXXXXX";
+  ASSERT_NE(mkdtemp(all), nullptr);
+  ASSERT_NE(mkdtemp(one), nullptr);
+  const nscd_test::RunResult r =
+      nscd_test::runNscd(scene + " --duration 0.05 --dump-problems " + all + " --dump-when all");
+  ASSERT_EQ(r.status, 0) << r.err;
+  long total = 0, most = 0;
+  std::string busiest;
+  for (int s = 0; s < kSolverStageCount; ++s) {
+    const std::string name = solverStageName(static_cast<SolverStage>(s));
+    const long n = stageCount(r.out, name);
+    ASSERT_GE(n, 0) << name << " missing in " << r.out;
+    total += n;
+    if (n > most) most = n, busiest = name;
+  }
+  EXPECT_GT(total, 0);
+  EXPECT_EQ(filesIn(all), total);
+  EXPECT_NE(r.out.find("\"rescues\":{\"cold_retry\":"), std::string::npos) << r.out;
+  const nscd_test::RunResult s =
+      nscd_test::runNscd(scene + " --duration 0.05 --dump-problems " + one + " --dump-when stage=" + busiest);
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_EQ(filesIn(one), most) << busiest;
+  const nscd_test::RunResult bad = nscd_test::runNscd(scene + " --dump-problems " + one + " --dump-when stage=nope");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("no solver stage 'nope'"), std::string::npos) << bad.err;
+  std::system((std::string("rm -rf ") + all + " " + one).c_str());
 }

@@ -3,6 +3,7 @@
 // while unsolved. Taken in halves, a step must be the same steps of h/2^k that a
 // run at that step size takes, with the commands of a prescribed motion followed
 // in between and the efforts averaged over the step.
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -151,4 +152,39 @@ TEST(StepHalving, HalvedStepsAllocateNothing) {
     EXPECT_EQ(sim.stats().substeps, 4);
   }
   EXPECT_EQ(nscd_test::allocationCount(), before);
+}
+
+// StepStats::solves_by_stage counts every solve of the step, under the stage that
+// finished it: the attempts a halving drops and the rescues' solves included, as
+// a problem observer sees them. Every step here is unsolved (halved twice, then
+// the rescues at h/4), so every kind of solve occurs.
+TEST(StepHalving, SolvesByStageCountEverySolveOfTheStep) {
+  Simulator sim = c60(kDt, 2, 0);
+  sim.setState(settled());
+  std::array<int, kSolverStageCount> seen{};
+  sim.setProblemObserver([&](const ProblemView& v) { ++seen[static_cast<int>(v.report.stage)]; });
+  for (int k = 1; k <= kSteps; ++k) {
+    seen.fill(0);
+    setHandle(sim, settled().t + k * kDt);
+    sim.step();
+    const StepStats& st = sim.stats();
+    EXPECT_EQ(st.substeps, 4) << k;
+    EXPECT_TRUE(stepTookRescue(st, StepRescue::Halving)) << k;
+    EXPECT_TRUE(stepTookRescue(st, StepRescue::LongerSolve)) << k;
+    int solves = 0;
+    for (int s = 0; s < kSolverStageCount; ++s) {
+      EXPECT_EQ(st.solves_by_stage[s], seen[s]) << k << " " << solverStageName(static_cast<SolverStage>(s));
+      solves += st.solves_by_stage[s];
+    }
+    // At least the whole attempt, its two halves and four quarters, each with a longer solve.
+    EXPECT_GE(solves, 1 + 2 + 4 * 2) << k;
+    EXPECT_GT(st.solves_by_stage[static_cast<int>(SolverStage::Unsolved)], 0) << k;
+  }
+}
+
+TEST(StepRescue, NamesInPolicyOrder) {
+  const char* expected[kStepRescueCount] = {"cold_retry",    "plastic_impact", "halving",   "longer_solve",
+                                            "plastic_retry", "frictionless",   "energy_cap"};
+  for (int i = 0; i < kStepRescueCount; ++i)
+    EXPECT_STREQ(stepRescueName(static_cast<StepRescue>(i)), expected[i]);
 }

@@ -5,13 +5,17 @@
 //   - Frictional (3 rows: normal, tangent 1, tangent 2): Coulomb's law with
 //     coefficient mu (equivalently the SOCCP K* ∋ U + mu|U_T| e_N  _|_  P ∈ K).
 // b already holds the restitution term of the Newton impact law.
-// Solved by nonsmooth Gauss-Seidel (NSGS) over the blocks with an exact local
-// solver per block, warm-started from the P passed in; all Bilateral rows are
-// assembled into one equality block solved exactly in each sweep. A global
-// semismooth Newton on the Alart-Curnier function of all blocks takes over when
-// NSGS converges slowly (SolverMethod::Auto) and falls back to NSGS if it fails.
+// Solved by a schedule of stages (src/engine/solver/solver_schedule.cpp,
+// docs/solver.md): nonsmooth Gauss-Seidel (NSGS) sweeps over the blocks with an
+// exact local solver per block, warm-started from the P passed in (all
+// Bilateral rows assembled into one equality block solved exactly in each
+// sweep); a global semismooth Newton on the Alart-Curnier function when the
+// sweeps converge slowly; and, for what they leave unsolved, the proximal
+// Newton, a long Newton and the cone fixed point. SolverReport::stage names
+// the stage that gave the answer.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -43,22 +47,44 @@ struct ProblemBlock {
   double mu = 0;  // Frictional only
 };
 
-// Auto: NSGS, switching to the global Newton after one sweep on small problems
-// or when the measured NSGS rate predicts many more sweeps; NSGS: sweeps only;
-// Newton: one NSGS sweep (cleans the warm start), then Newton. A failed Newton is
-// discarded (NSGS resumes from where Newton started; the first failure restarts
-// the Newton from P = 0, then up to 3 more attempts between runs of sweeps), and
-// NSGS keeps its full sweep budget; if the problem is still unsolved, the
-// proximal Newton (proximal_newton.cpp) from the best iterate, a long Newton,
-// and the cone fixed point (cone_fixed_point.cpp) with a Newton from its
-// answer. ProximalNewton:
-// one sweep, then the proximal Newton at once (for solver studies).
+// Which schedule runs (solver_schedule.cpp). Auto: NSGS, switching to the
+// global Newton after one sweep on small problems or when the measured NSGS rate
+// predicts many more sweeps, then the stages for what that leaves unsolved;
+// NSGS: sweeps only; Newton: as Auto, the Newton after one sweep whatever the
+// size; ProximalNewton: one sweep, then the proximal Newton at once (for solver
+// studies).
 enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
+
+// The stages of a solve (solver_schedule.cpp, docs/solver.md), in the order the
+// schedule runs them; SolverReport::stage names the one that gave the answer.
+enum class SolverStage : std::uint8_t {
+  NoRows,          // the problem has no rows
+  LocalSolver,     // one frictional contact: the exact local solver alone
+  WarmStart,       // the warm start already met the tolerance
+  Sweeps,          // NSGS (proximal after stalls) until the Newton is expected to be cheaper
+  Newton,          // a short global Newton from the sweeps' iterate
+  NewtonFromZero,  // one sweep from P = 0, then a short Newton
+  NewtonFromWarm,  // one sweep from the warm start, then a short Newton
+  NewtonRetry,     // up to three more short Newtons, one sweep apart
+  ProximalTrial,   // the proximal Newton after the last short Newton (dropped if it fails)
+  SweepsToBudget,  // NSGS up to the sweep budget
+  ProximalNewton,  // the proximal Newton from the best iterate
+  LongNewton,      // a Newton of up to 500 iterations from P = 0
+  ConeFixedPoint,  // the cone fixed point (interior-point solves), a Newton from its answer
+  Unsolved,        // no stage met the tolerance: the best iterate is the answer
+  Failed,          // invalid or non-finite input, or a non-finite iterate
+};
+constexpr int kSolverStageCount = 15;
+// "no_rows", "local_solver", "warm_start", "sweeps", ... (snake case of the above).
+const char* solverStageName(SolverStage stage);
 
 struct SolverOptions {
   double tolerance = 1e-8;   // on the normalised error (see solverError)
   int max_iterations = 200;  // bounds the NSGS sweeps, and separately the Newton iterations
   SolverMethod method = SolverMethod::Auto;
+  // Bit s set: the schedule's rows of SolverStage s are skipped (solver studies:
+  // what the others do without it; nscd_solve_problems --skip-stage).
+  std::uint32_t skip_stages = 0;
 };
 
 struct SolverReport {
@@ -68,6 +94,7 @@ struct SolverReport {
   int sweeps = 0;             // NSGS sweeps
   int newton_iterations = 0;  // global Newton iterations (each: one m x m LU)
   int interior_point_iterations = 0;  // of the cone fixed point (each: one m x m LU)
+  SolverStage stage = SolverStage::Failed;  // the stage that gave the answer
 };
 
 // Siconos-style error: sqrt(sum over blocks of |P - proj_K(P - Uhat)|^2
@@ -83,19 +110,20 @@ class FrictionContactSolver {
  public:
   // W: m x m symmetric positive semidefinite Delassus operator (only the top-left
   // m x m part of the matrices passed is read). P: in = warm start, out = solution
-  // (if not converged: the NSGS iterate of lowest error).
+  // (if not converged: the best iterate the stages found).
   SolverReport solve(const Eigen::Ref<const Eigen::MatrixXd>& W,
                      const Eigen::Ref<const Eigen::VectorXd>& b,
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
                      Eigen::Ref<Eigen::VectorXd> P);
 
   // The solver's buffers, grown to the largest problem seen, never shrunk
-  // (internal: friction_contact_solver.cpp, nsgs.cpp, global_newton.cpp).
+  // (internal: src/engine/solver, solve_run.hpp).
   struct Workspace {
     int maxRows = 0;            // capacity in rows
     int maxEq = 0;              // capacity in equality rows
     Eigen::VectorXd U, Pbest, Pstart;  // running local velocities; best iterate; Newton start
     Eigen::VectorXd Pinitial;          // the warm start the solve was given
+    Eigen::VectorXd Ptrial;            // a trial stage's iterate (kept only if it solves)
     Eigen::MatrixXd eqL;        // Cholesky factor of the assembled equality block
     Eigen::VectorXd eqRhs;
     std::vector<int> eqRows;    // rows of the equality block (W order)
@@ -106,9 +134,9 @@ class FrictionContactSolver {
     std::vector<int> piv;
     std::vector<char> zeroRow;  // W(i, i) negligible: P_i = 0
     // Proximal Newton: the shifted problem W + sigma D, b - sigma D P_k, its
-    // centre P_k, and the outer iterate.
+    // centre P_k, and its best iterate.
     Eigen::MatrixXd Wprox;
-    Eigen::VectorXd bprox, Pcentre, Pouter;
+    Eigen::VectorXd bprox, Pcentre, proxBest;
     // The cone fixed point's buffers, made when it first runs.
     std::shared_ptr<ConeFixedPointWorkspace> cone;
     // NSGS: the local solver's sticking factor per row (a frictional block's first).

@@ -215,7 +215,7 @@ struct Settings {
   int max_iterations = 200;         // solver sweeps
   // A step whose friction-contact problem the solver leaves unsolved is taken
   // again as two steps of h/2, each of them halved again while unsolved, down to
-  // h / 2^max_step_halvings, where the fallbacks of impact_safeguards.cpp apply.
+  // h / 2^max_step_halvings, where the later rescues of rescue_policy.cpp apply.
   // 0: never.
   int max_step_halvings = 8;
   bool projection = true;           // combined projection after each step

@@ -2,6 +2,8 @@
 // nscd_run, the ROS node, the benchmarks and the tests all drive this class.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -72,18 +74,21 @@ struct StepStats {
   int projection_passes = 0;
   int projection_least_distance = 0;  // passes whose problem Gauss-Seidel left unsolved, solved exactly
   double max_penetration = 0;  // largest (positive) penetration at the end of the step
-  bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
   int late_contacts = 0;         // contacts added after the first solve (closed by its answer)
+  // The rescues the step took (StepRescue, in the policy's order):
+  bool cold_retry = false;        // the answer was not finite: solved again from P = 0 by NSGS alone
+  bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
+  // (halving: substeps > 1, below.) Left unsolved at the smallest step, the
+  // problem was solved again from its answer with 10 times the budget before any
+  // of the fallbacks below, and that answer kept (converged, or closer): the
+  // physics unchanged.
+  bool longer_solve = false;
   // Newton's impact law at coupled points left the problem unsolved and the plastic
   // law (e = 0, friction kept) solved it: the step is taken plastic. Its effect: the
   // kinetic energy after it minus that of the unsolved answer, relative to the
   // kinetic energy of v_free.
   bool plastic_retry = false;
   double plastic_retry_kinetic_change = 0;
-  // Left unsolved at the smallest step, the problem was solved again from its
-  // answer with 10 times the budget before any of the fallbacks below, and that
-  // answer kept (converged, or closer): the physics unchanged.
-  bool longer_solve = false;
   bool frictionless_fallback = false;  // unsolved (residual > 1e-3): taken frictionless, e = 0
   // Its effect on the step: the kinetic energy after the fallback minus that of the
   // unsolved answer it replaced, relative to the kinetic energy of v_free (0 if none).
@@ -115,7 +120,31 @@ struct StepStats {
   int rejected = 0;
   double error = 0;
   bool extrapolated = false;
+  // How many of the step's friction-contact solves each stage of the solver's
+  // schedule finished (SolverReport::stage; index: SolverStage), the rescues'
+  // solves and those of the attempts a halving dropped included.
+  std::array<int, kSolverStageCount> solves_by_stage{};
 };
+
+// The rescues of a step whose friction-contact problem goes wrong, one ordered
+// policy (src/engine/step/rescue_policy.cpp): each is tried in this order, and
+// those after Halving only at the smallest step (Settings::max_step_halvings),
+// because they change the physics or cost ten solves.
+enum class StepRescue : std::uint8_t {
+  ColdRetry,      // a non-finite answer: solved again from P = 0 by NSGS alone
+  PlasticImpact,  // an impact whose restitution would add energy: solved with e = 0
+  Halving,        // unsolved: the step taken again as two of h/2
+  LongerSolve,    // unsolved at the smallest step: solved again with 10 times the budget
+  PlasticRetry,   // unsolved with restitution: solved with e = 0, kept if that converges
+  Frictionless,   // unsolved and far off or adding energy: taken frictionless and plastic
+  EnergyCap,      // still far off: the impulses scaled so they add no kinetic energy
+};
+constexpr int kStepRescueCount = 7;
+// "cold_retry", "plastic_impact", "halving", "longer_solve", "plastic_retry",
+// "frictionless", "energy_cap".
+const char* stepRescueName(StepRescue rescue);
+// Whether the step (or one of its substeps) took the rescue.
+bool stepTookRescue(const StepStats& stats, StepRescue rescue);
 
 enum class StepStatus { Ok, NotConverged, NonFinite };
 
@@ -127,8 +156,7 @@ struct EnergyReport {
 };
 
 // One friction-contact problem as a step solved it: U = W P + b over `blocks`,
-// the warm start the solver began from and its answer (before the impact
-// safeguards). Seen by a ProblemObserver; the views die with the call.
+// the warm start the solver began from and its answer (before any rescue). Seen by a ProblemObserver; the views die with the call.
 struct ProblemView {
   double t = 0;   // start of the step
   int round = 0;  // 0, then 1 if contacts closed by the answer joined (late contacts)
@@ -142,10 +170,11 @@ struct ProblemView {
   // substep-th of the step at that length (0 and 0: the step taken whole).
   int halvings = 0;
   int substep = 0;
-  // Null for the step's own solve; for a safeguard's solve of the step's problem
-  // again (impact_safeguards.cpp): "plastic" (an impact that would add energy),
-  // "longer" (left unsolved at the smallest step, solved again with 10 times the
-  // budget), "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
+  // Null for the step's own solve; for a rescue's solve of the step's problem
+  // again (rescue_policy.cpp): "cold_retry" (a non-finite answer, solved again
+  // from P = 0 by NSGS), "plastic" (an impact that would add energy), "longer"
+  // (left unsolved at the smallest step, solved again with 10 times the budget),
+  // "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
   const char* resolve = nullptr;
 };
 using ProblemObserver = std::function<void(const ProblemView&)>;

@@ -16,9 +16,9 @@
 #include <CLI/CLI.hpp>
 
 #include "csv_writer.hpp"
+#include "problem_dump.hpp"
 #include "run_summary.hpp"
 #include "nscd_sim/command_schedule.hpp"
-#include "nscd_sim/problem_file.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
   app.add_option("--dump-problems", dump_dir,
                  "write friction-contact problems to this folder (docs/interfaces.md)");
   app.add_option("--dump-when", dump_when,
-                 "which problems: unconverged (default), all, or a step count N (every Nth step)");
+                 "which problems: unconverged (default), all, a step count N (every Nth step), or "
+                 "stage=NAME[,NAME...] (those these solver stages finished, docs/solver.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -92,14 +93,11 @@ int main(int argc, char** argv) {
   if (!std::isfinite(duration) || duration < 0)
     return badInput("nscd_run: --duration must be a finite number >= 0");
   if (every < 1) return badInput("nscd_run: --every must be >= 1");
-  long dump_every = 0;  // 0: unconverged only
-  if (dump_when == "all") {
-    dump_every = 1;
-  } else if (dump_when != "unconverged") {
-    char* end = nullptr;
-    dump_every = std::strtol(dump_when.c_str(), &end, 10);
-    if (end == dump_when.c_str() || *end != 0 || dump_every < 1)
-      return badInput("nscd_run: --dump-when " + dump_when + ": expected unconverged, all or N >= 1");
+  std::unique_ptr<nscd::ProblemDump> dump;
+  try {
+    if (!dump_dir.empty()) dump = std::make_unique<nscd::ProblemDump>(dump_dir, dump_when);
+  } catch (const std::invalid_argument& e) {
+    return badInput(std::string("nscd_run: --dump-when ") + e.what());
   }
   if (!dump_dir.empty() && access(dump_dir.c_str(), W_OK) != 0)
     return badInput("nscd_run: --dump-problems " + dump_dir + ": not a writable folder");
@@ -145,23 +143,7 @@ int main(int argc, char** argv) {
 
   const double h = sim->model().settings.dt;
   long k = 0;
-  int dumped = 0;
-  if (!dump_dir.empty()) {
-    sim->setProblemObserver([&](const nscd::ProblemView& v) {
-      if (dump_every == 0 ? v.report.converged : (k - 1) % dump_every != 0) return;
-      char name[96];
-      // A safeguard's re-solve is named after it: stepN_rR_plastic.txt.
-      const char* sep = v.resolve ? "_" : "";
-      const char* kind = v.resolve ? v.resolve : "";
-      if (v.halvings == 0)
-        std::snprintf(name, sizeof name, "/step%08ld_r%d%s%s.txt", k, v.round, sep, kind);
-      else  // a substep of the step taken in halves (Settings::max_step_halvings)
-        std::snprintf(name, sizeof name, "/step%08ld_h%d_s%d_r%d%s%s.txt", k, v.halvings, v.substep,
-                      v.round, sep, kind);
-      nscd::writeProblemFile(dump_dir + name, v);
-      ++dumped;
-    });
-  }
+  if (dump) sim->setProblemObserver([&](const nscd::ProblemView& v) { dump->write(v, k); });
   // Fixed steps: round(duration / dt) of them; adaptive: until the sim time
   // reaches duration (scheduled_step.hpp).
   const bool adaptive = sim->model().settings.step_control == nscd::StepControl::Adaptive;
@@ -176,6 +158,7 @@ int main(int argc, char** argv) {
   int halved = 0, substeps_max = 1;
   long rejected = 0, extrapolated = 0;
   double residual_max = 0, max_pen = 0, h_min = INFINITY, h_max = 0;
+  nscd::StageCounts counts;
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -200,6 +183,7 @@ int main(int argc, char** argv) {
     substeps_max = std::max(substeps_max, s.substeps);
     frictionless_fallbacks += s.frictionless_fallback;
     energy_capped += s.energy_capped;
+    counts.addStep(s);
     if (st == nscd::StepStatus::NonFinite) {
       progress.finish(sim->state().t, wall());
       std::cerr << "nscd_run: simulation failed at t=" << sim->state().t
@@ -213,7 +197,7 @@ int main(int argc, char** argv) {
   }
   const double wall_s = wall();
   progress.finish(sim->state().t, wall_s);
-  if (!dump_dir.empty()) std::cerr << "nscd_run: " << dumped << " problems written to " << dump_dir << std::endl;
+  if (dump) std::cerr << "nscd_run: " << dump->written() << " problems written to " << dump_dir << std::endl;
   nscd::RunSummary summary;
   summary.steps = status == 0 ? k - 1 : k;
   summary.sim_time = sim->state().t;
@@ -235,6 +219,7 @@ int main(int argc, char** argv) {
   summary.extrapolated_steps = extrapolated;
   summary.h_min = h_max > 0 ? h_min : 0;
   summary.h_max = h_max;
+  summary.counts = counts;
   std::cout << nscd::runSummaryJson(summary) << std::endl;
   return status;
 }

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "csv_writer.hpp"
+#include "problem_dump.hpp"
 #include "run_summary.hpp"
 
 #include "nscd_sim/scene_loader.hpp"
@@ -36,7 +37,13 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
     double e_prev = r.energy_initial;
     long iters_sum = 0;
     double h_min = INFINITY;
-    for (long k = 1; !runFinished(sim, k - 1, opts.duration); ++k) {
+    long k = 0;
+    std::unique_ptr<ProblemDump> dump;
+    if (!opts.dump_dir.empty()) {
+      dump = std::make_unique<ProblemDump>(opts.dump_dir, opts.dump_when, opts.dump_prefix);
+      sim.setProblemObserver([&](const ProblemView& v) { dump->write(v, k); });
+    }
+    for (k = 1; !runFinished(sim, k - 1, opts.duration); ++k) {
       prepareScheduledStep(sim, opts.schedules, k, opts.duration);  // the command at the end of the step
       const StepStatus st = sim.step();
       const StepStats& s = sim.stats();
@@ -63,6 +70,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
         r.fallback_loss_max = std::max(r.fallback_loss_max, -s.fallback_kinetic_change);
       }
       r.energy_capped_steps += s.energy_capped;
+      r.counts.addStep(s);
       if (st == StepStatus::NonFinite) {
         r.status = "nonfinite";
         break;
@@ -86,6 +94,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       e_prev = e;
       if (writer && k % every == 0) writer->writeRow(sim);
     }
+    if (dump) r.problems_written = dump->written();
     r.sim_time = sim.state().t;
     r.energy_final = sim.energy().total();
     r.iters_mean = r.steps > 0 ? static_cast<double>(iters_sum) / r.steps : 0.0;
@@ -112,6 +121,7 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       js.extrapolated_steps = r.extrapolated_steps;
       js.h_min = r.h_min;
       js.h_max = r.h_max;
+      js.counts = r.counts;
       std::ofstream f(opts.summary_json);
       f << runSummaryJson(js) << "\n";
       if (!f) throw std::runtime_error(opts.summary_json + ": cannot write");

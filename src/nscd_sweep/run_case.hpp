@@ -7,6 +7,7 @@
 
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/model.hpp"
+#include "stage_counts.hpp"
 
 namespace nscd::sweep {
 
@@ -25,6 +26,10 @@ struct CaseOptions {
   int every = 1;
   // ... and, if set, the JSON line nscd_run prints after the run.
   std::string summary_json;
+  // If set, the friction-contact problems chosen by dump_when (ProblemDump) are
+  // written to this folder as nscd_run --dump-problems writes them, each file
+  // name prefixed by dump_prefix.
+  std::string dump_dir, dump_when = "unconverged", dump_prefix;
 };
 
 struct CaseMetrics {
@@ -61,6 +66,8 @@ struct CaseMetrics {
   // extrapolated, the shortest and longest step.
   long rejected_steps = 0, extrapolated_steps = 0;
   double h_min = 0, h_max = 0;
+  StageCounts counts;        // solves per solver stage, steps per rescue (not in the CSV row)
+  int problems_written = 0;  // CaseOptions::dump_dir
 };
 
 // Runs a copy of `model` for opts.duration; never throws (errors go to status).

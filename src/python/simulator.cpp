@@ -352,6 +352,17 @@ class PySimulator {
     d["halvings"] = s.halvings;
     d["frictionless_fallback"] = s.frictionless_fallback;
     d["energy_capped"] = s.energy_capped;
+    d["cold_retry"] = s.cold_retry;
+    // How many of the step's solves each solver stage finished, and the rescues
+    // it took (docs/solver.md).
+    py::dict stages, rescues;
+    for (int i = 0; i < nscd::kSolverStageCount; ++i)
+      stages[nscd::solverStageName(static_cast<nscd::SolverStage>(i))] = s.solves_by_stage[i];
+    for (int i = 0; i < nscd::kStepRescueCount; ++i)
+      rescues[nscd::stepRescueName(static_cast<nscd::StepRescue>(i))] =
+          nscd::stepTookRescue(s, static_cast<nscd::StepRescue>(i));
+    d["solver_stages"] = stages;
+    d["rescues"] = rescues;
     d["projection_energy_removed"] = s.projection_energy_removed;
     d["iteration_matrix_fallback"] = s.iteration_matrix_fallback;
     d["h"] = s.h;

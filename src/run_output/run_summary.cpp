@@ -35,7 +35,8 @@ std::string runSummaryJson(const RunSummary& r) {
          ",\"energy_final\":" + jsonNumber(r.energy_final) +
          ",\"rejected_steps\":" + std::to_string(r.rejected_steps) +
          ",\"extrapolated_steps\":" + std::to_string(r.extrapolated_steps) +
-         ",\"h_min\":" + jsonNumber(r.h_min) + ",\"h_max\":" + jsonNumber(r.h_max) + "}";
+         ",\"h_min\":" + jsonNumber(r.h_min) + ",\"h_max\":" + jsonNumber(r.h_max) + "," +
+         r.counts.jsonFields() + "}";
 }
 
 }  // namespace nscd

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "stage_counts.hpp"
+
 namespace nscd {
 
 struct RunSummary {
@@ -30,10 +32,11 @@ struct RunSummary {
   long extrapolated_steps = 0;
   double h_min = 0;
   double h_max = 0;
+  StageCounts counts;  // solves per solver stage, steps per rescue
 };
 
-// {"steps":..,"sim_time":..,"wall_s":..,"rtf":..,"iters_mean":..,...} without a line
-// break; numbers as %.10g, non-finite ones as null.
+// {"steps":..,"sim_time":..,"wall_s":..,"rtf":..,"iters_mean":..,...,"solver_stages":{..},
+// "rescues":{..}} without a line break; numbers as %.10g, non-finite ones as null.
 std::string runSummaryJson(const RunSummary& r);
 
 }  // namespace nscd

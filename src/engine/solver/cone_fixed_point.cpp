@@ -7,11 +7,9 @@
 // (Acary, Cadoux, Lemarechal, Malick 2011), which an interior-point method
 // solves whatever the conditioning (cone_interior_point.cpp). The fixed point
 // s <- mu |U_T(P)| from s = 0 converges slowly (linearly), but a few of its
-// steps bring P close enough for the global Newton: on the stress suite's
-// problems that every Newton stage fails even at a budget of 2000, ten steps and
-// a long Newton from the best of them solved 36 of 47 (a strictly feasible
-// sample; docs/performance.md), forty 39. The friction cone {|P_T| <= mu P_N} becomes the
-// second-order cone by y_N = mu P_N, y_T = P_T.
+// steps bring P close enough for the global Newton, which then converges where
+// it failed from every other start (docs/solver.md). The friction cone
+// {|P_T| <= mu P_N} becomes the second-order cone by y_N = mu P_N, y_T = P_T.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -32,13 +30,12 @@ struct ConeFixedPointWorkspace {
 namespace {
 
 constexpr int kConeMaxRows = 150;   // a dense LU per interior-point iteration
-// Fixed-point steps before the Newton. Stress suite (unconverged steps, before
-// the interior point's Tikhonov term): 10 steps 972, 20 922, 40 703, at 1.28x
-// the CPU of 10; with the term, 40 steps: 1 310 (docs/performance.md).
+// Fixed-point steps before the Newton: more steps bring the Newton's start
+// closer, at the cost of one interior-point solve each (docs/solver.md).
 constexpr int kFixedPointSteps = 40;
 constexpr NewtonBudget kNewtonFromCone{500, 150, 1e-8};  // as the long last-resort Newton
 
-ConeFixedPointWorkspace& workspace(SolveRun::Workspace& ws, int m) {
+ConeFixedPointWorkspace& workspace(SolverWorkspace& ws, int m) {
   if (!ws.cone) ws.cone = std::make_shared<ConeFixedPointWorkspace>();
   ConeFixedPointWorkspace& cw = *ws.cone;
   if (m > cw.maxRows) {
@@ -50,31 +47,13 @@ ConeFixedPointWorkspace& workspace(SolveRun::Workspace& ws, int m) {
   return cw;
 }
 
-}  // namespace
-
-bool runConeFixedPoint(SolveRun& run) {
-  const int m = run.m;
-  if (m > kConeMaxRows) return false;
-  for (int i = 0; i < m; ++i)
-    if (run.ws.zeroRow[i]) return false;
-  for (const ProblemBlock& bl : run.blocks)
-    if (bl.kind == BlockKind::Frictional && !(bl.mu > 0)) return false;
-  ConeFixedPointWorkspace& cw = workspace(run.ws, m);
-  SolverReport& rep = run.rep;
-  Eigen::Ref<Eigen::VectorXd>& P = run.P;
-
-  // Start from the best answer so far (what the solve returns if this fails).
-  if (run.bestAll < run.err) {
-    P.head(m) = run.ws.Pbest.head(m);
-    setUpRun(run, run.maxDiag);
-  }
-  cw.Pkeep.head(m) = P.head(m);
-  const double errBefore = run.err;
-
+// The cone problem's blocks and its scaled Q = D^-1 W D^-1 (D: mu on the normal rows).
+void scaleToCones(const SolveProblem& pr, ConeFixedPointWorkspace& cw) {
+  const int m = pr.m;
   auto D = cw.D.head(m);
   D.setOnes();
   cw.blocks.clear();
-  for (const ProblemBlock& bl : run.blocks) {
+  for (const ProblemBlock& bl : pr.blocks) {
     ConeBlock c;
     c.row = bl.row;
     c.size = bl.size;
@@ -88,45 +67,74 @@ bool runConeFixedPoint(SolveRun& run) {
   }
   auto Q = cw.Q.topLeftCorner(m, m);
   for (int j = 0; j < m; ++j)
-    for (int i = 0; i < m; ++i) Q(i, j) = run.Wm(i, j) / (D(i) * D(j));
+    for (int i = 0; i < m; ++i) Q(i, j) = pr.Wm(i, j) / (D(i) * D(j));
+}
+
+// The fixed point from s = 0: the best iterate into cw.Pbest; its error (INFINITY if none).
+double fixedPoint(const SolveProblem& pr, ConeFixedPointWorkspace& cw, Iterate& it, SolverReport& rep) {
+  const int m = pr.m;
+  auto D = cw.D.head(m);
   auto s = cw.s.head(m);
   s.setZero();
   double bestErr = INFINITY;
   for (int k = 0; k < kFixedPointSteps; ++k) {
-    cw.q.head(m) = (run.b.head(m) + s).cwiseQuotient(D);
-    const ConeQpReport qr = solveConeQp(Q, cw.q.head(m), cw.blocks, m, cw.qp, cw.y.head(m));
+    cw.q.head(m) = (pr.b.head(m) + s).cwiseQuotient(D);
+    const ConeQpReport qr = solveConeQp(cw.Q.topLeftCorner(m, m), cw.q.head(m), cw.blocks, m, cw.qp, cw.y.head(m));
     rep.interior_point_iterations += qr.iterations;
-    P.head(m) = cw.y.head(m).cwiseQuotient(D);
-    run.refreshU();
-    const double e = errorFromU(run.blocks, P.data(), run.U.data(), run.bnorm);
+    it.P.head(m) = cw.y.head(m).cwiseQuotient(D);
+    it.U.noalias() = pr.Wm * it.P.head(m);
+    it.U += pr.b.head(m);
+    const double e = errorFromU(pr.blocks, it.P.data(), it.U.data(), pr.bnorm);
     if (!std::isfinite(e)) break;
     if (e < bestErr) {
       bestErr = e;
-      cw.Pbest.head(m) = P.head(m);
+      cw.Pbest.head(m) = it.P.head(m);
     }
-    if (e <= run.options.tolerance) break;
-    for (const ProblemBlock& bl : run.blocks)
-      if (bl.kind == BlockKind::Frictional)
-        s(bl.row) = bl.mu * std::hypot(run.U(bl.row + 1), run.U(bl.row + 2));
+    if (e <= pr.tolerance) break;
+    for (const ProblemBlock& bl : pr.blocks)
+      if (bl.kind == BlockKind::Frictional) s(bl.row) = bl.mu * std::hypot(it.U(bl.row + 1), it.U(bl.row + 2));
   }
+  return bestErr;
+}
+
+}  // namespace
+
+bool coneFixedPointApplies(const SolveRun& run) {
+  const SolveProblem& pr = run.problem;
+  if (pr.m > kConeMaxRows) return false;
+  for (int i = 0; i < pr.m; ++i)
+    if (pr.ws.zeroRow[i]) return false;
+  for (const ProblemBlock& bl : pr.blocks)
+    if (bl.kind == BlockKind::Frictional && !(bl.mu > 0)) return false;
+  return true;
+}
+
+bool runConeFixedPoint(SolveRun& run) {
+  const SolveProblem& pr = run.problem;
+  const int m = pr.m;
+  Iterate& it = run.it;
+  ConeFixedPointWorkspace& cw = workspace(pr.ws, m);
+  cw.Pkeep.head(m) = it.P.head(m);
+  const double errBefore = it.err;
+  scaleToCones(pr, cw);
+  double bestErr = fixedPoint(pr, cw, it, run.rep);
   if (std::isfinite(bestErr)) {
-    P.head(m) = cw.Pbest.head(m);
-    setUpRun(run, run.maxDiag);
-    if (run.err <= run.options.tolerance) {
-      rep.converged = true;
-      return true;
-    }
-    // The Newton from here has a budget of its own.
-    run.ownBudgetNewtonIterations = rep.newton_iterations;
-    if (runNewton(run, kNewtonFromCone)) return true;
-    if (run.err < bestErr) {
-      bestErr = run.err;
-      cw.Pbest.head(m) = P.head(m);
+    it.P.head(m) = cw.Pbest.head(m);
+    restartIterate(pr, it);
+    if (it.err <= pr.tolerance) return true;
+    // The Newton from here, on a budget of its own.
+    const NewtonResult r = runNewton(pr, it, {std::min(kNewtonFromCone.max_iterations, run.options.max_iterations),
+                                              kNewtonFromCone.stall, kNewtonFromCone.delta0});
+    run.rep.newton_iterations += r.iterations;
+    if (r.converged) return true;
+    if (it.err < bestErr) {
+      bestErr = it.err;
+      cw.Pbest.head(m) = it.P.head(m);
     }
   }
   // Failed: the best answer it found if better than the one it started from.
-  P.head(m) = bestErr < errBefore ? cw.Pbest.head(m) : cw.Pkeep.head(m);
-  setUpRun(run, run.maxDiag);
+  it.P.head(m) = bestErr < errBefore ? cw.Pbest.head(m) : cw.Pkeep.head(m);
+  restartIterate(pr, it);
   return false;
 }
 

@@ -123,89 +123,22 @@ void grow(ConeQpWorkspace& ws, int n, int cones) {
   }
 }
 
-}  // namespace
+// One solve's views of the workspace: the scaled problem (Qs, qs), the iterate
+// (y, z), the residual and the buffers of the Newton system.
+struct Ipm {
+  Ipm(ConeQpWorkspace& ws_, const std::vector<ConeBlock>& blocks_, int n_)
+      : ws(ws_), blocks(blocks_), n(n_), ld(int(ws_.K.rows())), Qs(ws_.Qs.topLeftCorner(n_, n_)),
+        qs(ws_.qs.head(n_)), y(ws_.y.head(n_)), z(ws_.z.head(n_)), rd(ws_.rd.head(n_)),
+        lam(ws_.lam.head(n_)), dvec(ws_.dvec.head(n_)), rhs(ws_.rhs.head(n_)), rc(ws_.rc.head(n_)) {}
+  ConeQpWorkspace& ws;
+  const std::vector<ConeBlock>& blocks;
+  const int n, ld;
+  Eigen::Block<Eigen::MatrixXd> Qs;
+  Eigen::VectorBlock<Eigen::VectorXd> qs, y, z, rd, lam, dvec, rhs, rc;
 
-ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
-                         const Eigen::Ref<const Eigen::VectorXd>& q,
-                         const std::vector<ConeBlock>& blocks, int n, ConeQpWorkspace& ws,
-                         Eigen::Ref<Eigen::VectorXd> yOut) {
-  ConeQpReport rep;
-  int cones = 0;
-  for (const ConeBlock& bl : blocks) cones += bl.kind != ConeBlock::Free;
-  grow(ws, n, int(blocks.size()));
-  // Scaled to a unit largest diagonal of Q and a unit largest |q_i|.
-  double qScale = q.head(n).cwiseAbs().maxCoeff();
-  double qDiag = Q.topLeftCorner(n, n).diagonal().cwiseAbs().maxCoeff();
-  if (!(qScale > 0) || !(qDiag > 0) || !std::isfinite(qScale) || !std::isfinite(qDiag)) {
-    yOut.head(n).setZero();
-    rep.converged = qScale == 0;
-    return rep;
-  }
-  auto Qs = ws.Qs.topLeftCorner(n, n);
-  Qs = Q.topLeftCorner(n, n) / qDiag;
-  Qs.diagonal().array() += kTikhonov;
-  auto qs = ws.qs.head(n);
-  qs = q.head(n) / qScale;
-  const double qsNorm = qs.norm();
-  auto y = ws.y.head(n), z = ws.z.head(n), rd = ws.rd.head(n), lam = ws.lam.head(n);
-  auto dvec = ws.dvec.head(n), rhs = ws.rhs.head(n), rc = ws.rc.head(n);
-  y.setZero();
-  z.setZero();
-  for (const ConeBlock& bl : blocks)
-    if (bl.kind != ConeBlock::Free) y(bl.row) = z(bl.row) = 1;  // the cone's identity e
-  ws.ylast.head(n) = y;
-  int ld = int(ws.K.rows());
-
-  // One Newton direction for the complementarity right-hand side rc.
-  const auto direction = [&](Eigen::VectorXd& dy, Eigen::VectorXd& dz) {
-    rhs = -rd;
-    for (size_t k = 0; k < blocks.size(); ++k) {
-      const ConeBlock& bl = blocks[k];
-      if (bl.kind == ConeBlock::Free) continue;
-      jordanSolve(bl.size, lam.data() + bl.row, rc.data() + bl.row, dvec.data() + bl.row);
-      if (bl.size == 3) rhs.segment<3>(bl.row) += ws.Winv[k] * dvec.segment<3>(bl.row);
-      else rhs(bl.row) += ws.Winv[k](0, 0) * dvec(bl.row);
-    }
-    dy.head(n) = rhs;
-    luSolve(ws.K.data(), ld, n, ws.piv.data(), dy.data());
-    for (size_t k = 0; k < blocks.size(); ++k) {
-      const ConeBlock& bl = blocks[k];
-      if (bl.kind == ConeBlock::Free) {
-        dz.segment(bl.row, bl.size).setZero();
-      } else if (bl.size == 3) {
-        dz.segment<3>(bl.row) =
-            ws.Winv[k] * (dvec.segment<3>(bl.row) - ws.Winv[k] * dy.segment<3>(bl.row));
-      } else {
-        const double wi = ws.Winv[k](0, 0);
-        dz(bl.row) = wi * (dvec(bl.row) - wi * dy(bl.row));
-      }
-    }
-  };
-  const auto maxStep = [&](const Eigen::VectorXd& dy, const Eigen::VectorXd& dz) {
-    double t = INFINITY;
-    for (const ConeBlock& bl : blocks) {
-      if (bl.kind == ConeBlock::Free) continue;
-      t = std::min(t, stepToBoundary(bl.size, y.data() + bl.row, dy.data() + bl.row));
-      t = std::min(t, stepToBoundary(bl.size, z.data() + bl.row, dz.data() + bl.row));
-    }
-    return t;
-  };
-
-  for (int it = 0; it < kMaxIterations; ++it) {
-    rd.noalias() = Qs * y;
-    rd += qs - z;  // z stays 0 on free rows: they carry no dual variable
-    const double gap = cones > 0 ? y.dot(z) / cones : 0;
-    if (!(std::isfinite(gap) && rd.allFinite())) {
-      y = ws.ylast.head(n);
-      break;
-    }
-    ws.ylast.head(n) = y;
-    rep.iterations = it;
-    if (rd.norm() <= kResidualTol * (1 + qsNorm) && gap <= kGapTol * (1 + std::abs(y.dot(qs)))) {
-      rep.converged = true;
-      break;
-    }
-    // Scaling, lambda, and the system Q + W^-2.
+  // The Nesterov-Todd scaling at (y, z), lambda, and the system Q + W^-2
+  // factored in ws.K. False if an iterate left its cone or the LU failed.
+  bool scaleAndFactor() {
     auto K = ws.K.topLeftCorner(n, n);
     K = Qs;
     bool ok = true;
@@ -225,25 +158,62 @@ ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
         K(bl.row, bl.row) += 1 / (w * w);
       }
     }
-    if (!ok) break;
+    if (!ok) return false;
     K.diagonal().array() += kRegularisation;
-    if (!luFactor(ws.K.data(), ld, n, ws.piv.data())) break;
-    // Predictor.
+    return luFactor(ws.K.data(), ld, n, ws.piv.data());
+  }
+
+  // One Newton direction for the complementarity right-hand side rc.
+  void direction(Eigen::VectorXd& dy, Eigen::VectorXd& dz) {
+    rhs = -rd;
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      const ConeBlock& bl = blocks[k];
+      if (bl.kind == ConeBlock::Free) continue;
+      jordanSolve(bl.size, lam.data() + bl.row, rc.data() + bl.row, dvec.data() + bl.row);
+      if (bl.size == 3) rhs.segment<3>(bl.row) += ws.Winv[k] * dvec.segment<3>(bl.row);
+      else rhs(bl.row) += ws.Winv[k](0, 0) * dvec(bl.row);
+    }
+    dy.head(n) = rhs;
+    luSolve(ws.K.data(), ld, n, ws.piv.data(), dy.data());
+    for (size_t k = 0; k < blocks.size(); ++k) {
+      const ConeBlock& bl = blocks[k];
+      if (bl.kind == ConeBlock::Free) {
+        dz.segment(bl.row, bl.size).setZero();
+      } else if (bl.size == 3) {
+        dz.segment<3>(bl.row) = ws.Winv[k] * (dvec.segment<3>(bl.row) - ws.Winv[k] * dy.segment<3>(bl.row));
+      } else {
+        const double wi = ws.Winv[k](0, 0);
+        dz(bl.row) = wi * (dvec(bl.row) - wi * dy(bl.row));
+      }
+    }
+  }
+
+  // The largest step along (dy, dz) that keeps y and z in their cones.
+  double maxStep(const Eigen::VectorXd& dy, const Eigen::VectorXd& dz) const {
+    double t = INFINITY;
+    for (const ConeBlock& bl : blocks) {
+      if (bl.kind == ConeBlock::Free) continue;
+      t = std::min(t, stepToBoundary(bl.size, y.data() + bl.row, dy.data() + bl.row));
+      t = std::min(t, stepToBoundary(bl.size, z.data() + bl.row, dz.data() + bl.row));
+    }
+    return t;
+  }
+
+  // The predictor's right-hand side -lambda o lambda.
+  void predictorRhs() {
     for (const ConeBlock& bl : blocks) {
       if (bl.kind == ConeBlock::Free) continue;
       jordanProduct(bl.size, lam.data() + bl.row, lam.data() + bl.row, rc.data() + bl.row);
       rc.segment(bl.row, bl.size) *= -1;
     }
-    direction(ws.dya, ws.dza);
-    const double ta = std::min(1.0, maxStep(ws.dya, ws.dza));
-    const double gapAffine =
-        (y + ta * ws.dya.head(n)).dot(z + ta * ws.dza.head(n)) / std::max(1, cones);
-    const double sigma = std::pow(std::max(0.0, gapAffine) / std::max(gap, 1e-300), 3);
-    // Corrector: -lambda o lambda - (W^-1 dy_a) o (W dz_a) + sigma gap e.
+  }
+
+  // The corrector's: -lambda o lambda - (W^-1 dy_a) o (W dz_a) + centring e.
+  void correctorRhs(double centring) {
     for (size_t k = 0; k < blocks.size(); ++k) {
       const ConeBlock& bl = blocks[k];
       if (bl.kind == ConeBlock::Free) continue;
-      double a[3], c[3], prod[3];
+      double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, prod[3];
       if (bl.size == 3) {
         const Vector3d wa = ws.Winv[k] * ws.dya.segment<3>(bl.row);
         const Vector3d wc = ws.W[k] * ws.dza.segment<3>(bl.row);
@@ -255,16 +225,68 @@ ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
       jordanProduct(bl.size, lam.data() + bl.row, lam.data() + bl.row, rc.data() + bl.row);
       jordanProduct(bl.size, a, c, prod);
       for (int i = 0; i < bl.size; ++i) rc(bl.row + i) = -rc(bl.row + i) - prod[i];
-      rc(bl.row) += sigma * gap;
+      rc(bl.row) += centring;
     }
-    direction(ws.dy, ws.dz);
-    const double t = std::min(1.0, kStepFraction * maxStep(ws.dy, ws.dz));
+  }
+};
+
+}  // namespace
+
+ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
+                         const Eigen::Ref<const Eigen::VectorXd>& q,
+                         const std::vector<ConeBlock>& blocks, int n, ConeQpWorkspace& ws,
+                         Eigen::Ref<Eigen::VectorXd> yOut) {
+  ConeQpReport rep;
+  int cones = 0;
+  for (const ConeBlock& bl : blocks) cones += bl.kind != ConeBlock::Free;
+  grow(ws, n, int(blocks.size()));
+  // Scaled to a unit largest diagonal of Q and a unit largest |q_i|.
+  double qScale = q.head(n).cwiseAbs().maxCoeff();
+  double qDiag = Q.topLeftCorner(n, n).diagonal().cwiseAbs().maxCoeff();
+  if (!(qScale > 0) || !(qDiag > 0) || !std::isfinite(qScale) || !std::isfinite(qDiag)) {
+    yOut.head(n).setZero();
+    rep.converged = qScale == 0;
+    return rep;
+  }
+  Ipm s(ws, blocks, n);
+  s.Qs = Q.topLeftCorner(n, n) / qDiag;
+  s.Qs.diagonal().array() += kTikhonov;
+  s.qs = q.head(n) / qScale;
+  const double qsNorm = s.qs.norm();
+  s.y.setZero();
+  s.z.setZero();
+  for (const ConeBlock& bl : blocks)
+    if (bl.kind != ConeBlock::Free) s.y(bl.row) = s.z(bl.row) = 1;  // the cone's identity e
+  ws.ylast.head(n) = s.y;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    s.rd.noalias() = s.Qs * s.y;
+    s.rd += s.qs - s.z;  // z stays 0 on free rows: they carry no dual variable
+    const double gap = cones > 0 ? s.y.dot(s.z) / cones : 0;
+    if (!(std::isfinite(gap) && s.rd.allFinite())) {
+      s.y = ws.ylast.head(n);
+      break;
+    }
+    ws.ylast.head(n) = s.y;
+    rep.iterations = it;
+    if (s.rd.norm() <= kResidualTol * (1 + qsNorm) && gap <= kGapTol * (1 + std::abs(s.y.dot(s.qs)))) {
+      rep.converged = true;
+      break;
+    }
+    if (!s.scaleAndFactor()) break;
+    s.predictorRhs();
+    s.direction(ws.dya, ws.dza);
+    const double ta = std::min(1.0, s.maxStep(ws.dya, ws.dza));
+    const double gapAffine = (s.y + ta * ws.dya.head(n)).dot(s.z + ta * ws.dza.head(n)) / std::max(1, cones);
+    const double sigma = std::pow(std::max(0.0, gapAffine) / std::max(gap, 1e-300), 3);  // Mehrotra
+    s.correctorRhs(sigma * gap);
+    s.direction(ws.dy, ws.dz);
+    const double t = std::min(1.0, kStepFraction * s.maxStep(ws.dy, ws.dz));
     if (!(t > 0) || !ws.dy.head(n).allFinite() || !ws.dz.head(n).allFinite()) break;
-    y += t * ws.dy.head(n);
-    z += t * ws.dz.head(n);
+    s.y += t * ws.dy.head(n);
+    s.z += t * ws.dz.head(n);
     rep.iterations = it + 1;
   }
-  yOut.head(n) = y * (qScale / qDiag);
+  yOut.head(n) = s.y * (qScale / qDiag);
   return rep;
 }
 

@@ -194,29 +194,59 @@ void fixedPoint(const Matrix3d& W, const Vector3d& b, double mu, double tolAbs, 
 // Sliding solutions: P = pN (e_N - mu d), d = (cos psi, sin psi), and
 // U = W P + b = s (0, d) with pN > 0, s >= 0. For a given d this is the linear
 // system pN a(d) - s (0, d) = -b, a(d) = W (e_N - mu d), solvable iff
-//   h(psi) = a(d) . ((0, d) x b) = 0,
-// a trigonometric polynomial of degree 2 (no poles): at most 4 roots, found
-// as the roots of a quartic in t = tan((psi - psi0) / 2).
-void slipAngle(const Matrix3d& W, const Vector3d& b, double mu, Best& best) {
-  // h(psi) = l . d + d^T S d.
-  Eigen::Matrix<double, 3, 2> C;  // (0, d) x b = C d
-  C << b(2), -b(1), 0, b(0), -b(0), 0;
-  const Eigen::Matrix<double, 3, 2> Aw = -mu * W.block<3, 2>(0, 1);
-  const Vector2d l = C.transpose() * W.col(0);
-  const Matrix2d Q = Aw.transpose() * C;
-  const Matrix2d S = 0.5 * (Q + Q.transpose());
-  const auto h = [&](double psi) {
+//   h(psi) = a(d) . ((0, d) x b) = l . d + d^T S d = 0,
+// a trigonometric polynomial of degree 2 (no poles): at most 4 roots.
+struct SlipFunction {
+  Vector2d l;
+  Matrix2d S;
+  SlipFunction(const Matrix3d& W, const Vector3d& b, double mu) {
+    Eigen::Matrix<double, 3, 2> C;  // (0, d) x b = C d
+    C << b(2), -b(1), 0, b(0), -b(0), 0;
+    const Eigen::Matrix<double, 3, 2> Aw = -mu * W.block<3, 2>(0, 1);
+    l = C.transpose() * W.col(0);
+    const Matrix2d Q = Aw.transpose() * C;
+    S = 0.5 * (Q + Q.transpose());
+  }
+  double h(double psi) const {
     const Vector2d d(std::cos(psi), std::sin(psi));
     return l.dot(d) + d.dot(S * d);
-  };
-  const auto dh = [&](double psi) {  // derivative: d' = (-sin, cos)
+  }
+  double dh(double psi) const {  // derivative: d' = (-sin, cos)
     const Vector2d d(std::cos(psi), std::sin(psi)), dp(-d.y(), d.x());
     return l.dot(dp) + 2 * dp.dot(S * d);
-  };
+  }
+};
+
+// A root psi of h polished by Newton on h, and the sliding answer there offered.
+void offerSlidingRoot(const Matrix3d& W, const Vector3d& b, double mu, const SlipFunction& f, double psi,
+                      Best& best) {
+  for (int k = 0; k < 8; ++k) {
+    const double hv = f.h(psi), dv = f.dh(psi);
+    if (hv == 0 || !(std::abs(dv) > 0)) break;
+    const double step = hv / dv;
+    if (!(std::abs(f.h(psi - step)) < std::abs(hv))) break;
+    psi -= step;
+  }
+  const Vector2d d(std::cos(psi), std::sin(psi));
+  Eigen::Matrix<double, 3, 2> M;
+  M.col(0) = W.col(0) - mu * W.block<3, 2>(0, 1) * d;
+  M.col(1) << 0, -d.x(), -d.y();
+  const Vector2d x = M.colPivHouseholderQr().solve(-b);  // (pN, s)
+  if (!(x(0) > 0)) return;
+  Vector3d Pc;
+  Pc(0) = x(0);
+  Pc.tail<2>() = -mu * x(0) * d;
+  best.offer(Pc, errorOf(W, b, mu, Pc));
+}
+
+// The sliding solutions, the roots of h found as the roots of a quartic in
+// t = tan((psi - psi0) / 2), each offered.
+void slipAngle(const Matrix3d& W, const Vector3d& b, double mu, Best& best) {
+  const SlipFunction f(W, b, mu);
   // Origin psi0 with |h(psi0 + pi)| large keeps the quartic's leading term away from 0.
   double psi0 = 0, hmax = -1;
   for (int i = 0; i < 8; ++i) {
-    const double v = std::abs(h(i * M_PI / 4 + M_PI));
+    const double v = std::abs(f.h(i * M_PI / 4 + M_PI));
     if (v > hmax) {
       hmax = v;
       psi0 = i * M_PI / 4;
@@ -225,8 +255,8 @@ void slipAngle(const Matrix3d& W, const Vector3d& b, double mu, Best& best) {
   if (!(hmax > 0)) return;  // h == 0: degenerate, leave it to the other stages
   // Coefficients of h(psi0 + phi) = a0 + a1 cos phi + b1 sin phi + a2 cos 2phi + b2 sin 2phi.
   const Matrix2d R = Eigen::Rotation2Dd(psi0).toRotationMatrix();
-  const Vector2d lr = R.transpose() * l;
-  const Matrix2d Sr = R.transpose() * S * R;
+  const Vector2d lr = R.transpose() * f.l;
+  const Matrix2d Sr = R.transpose() * f.S * R;
   const double a0 = 0.5 * (Sr(0, 0) + Sr(1, 1)), a2 = 0.5 * (Sr(0, 0) - Sr(1, 1)), b2 = Sr(0, 1);
   const double a1 = lr(0), b1 = lr(1);
   // (1 + t^2)^2 h = c4 t^4 + c3 t^3 + c2 t^2 + c1 t + c0.
@@ -245,24 +275,7 @@ void slipAngle(const Matrix3d& W, const Vector3d& b, double mu, Best& best) {
     // try every root's real part, polish on h, and let the Coulomb error decide.
     const std::complex<double> t = es.eigenvalues()(r);
     if (std::abs(t.imag()) > 1e-3 * (1 + std::abs(t))) continue;
-    double psi = psi0 + 2 * std::atan(t.real());
-    for (int k = 0; k < 8; ++k) {
-      const double hv = h(psi), dv = dh(psi);
-      if (hv == 0 || !(std::abs(dv) > 0)) break;
-      const double step = hv / dv;
-      if (!(std::abs(h(psi - step)) < std::abs(hv))) break;
-      psi -= step;
-    }
-    const Vector2d d(std::cos(psi), std::sin(psi));
-    Eigen::Matrix<double, 3, 2> M;
-    M.col(0) = W.col(0) - mu * W.block<3, 2>(0, 1) * d;
-    M.col(1) << 0, -d.x(), -d.y();
-    const Vector2d x = M.colPivHouseholderQr().solve(-b);  // (pN, s)
-    if (!(x(0) > 0)) continue;
-    Vector3d Pc;
-    Pc(0) = x(0);
-    Pc.tail<2>() = -mu * x(0) * d;
-    best.offer(Pc, errorOf(W, b, mu, Pc));
+    offerSlidingRoot(W, b, mu, f, psi0 + 2 * std::atan(t.real()), best);
   }
 }
 
@@ -297,53 +310,41 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
   return solveLocalFrictional(Win, b, mu, tol, P, info, nullptr);
 }
 
-bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, double tol,
-                          Vector3d& P, LocalSolveInfo* info, LocalFactorCache* cache) {
-  LocalSolveInfo local;
-  LocalSolveInfo& inf = info ? *info : local;
-  inf = LocalSolveInfo{};
-  double tolAbs = INFINITY;
-  // Every exit reports the error of the original problem (W may be modified below).
-  const auto report = [&](LocalStage stage, bool ok) {
+namespace {
+
+// The answer and its report: every exit reports the error of the original
+// problem (Win; the stages may solve a modified W).
+struct LocalAnswer {
+  const Matrix3d& Win;
+  const Vector3d& b;
+  double mu;
+  double tolAbs;
+  Vector3d& P;
+  LocalSolveInfo& inf;
+  bool report(LocalStage stage, bool ok) {
     ok = ok && inf.error <= tolAbs;
     inf.stage = ok ? stage : LocalStage::Failed;
     return ok;
-  };
-  const auto finish = [&](LocalStage stage, const Vector3d& p, bool ok) {
+  }
+  bool finish(LocalStage stage, const Vector3d& p, bool ok) {
     P = p;
     inf.error = localCoulombError(p, Win * p + b, mu);
     return report(stage, ok);
-  };
+  }
   // An exit whose error of the original problem is known already (the same
   // expression on the same W, b, mu, p): only its report.
-  const auto finishKnown = [&](LocalStage stage, const Vector3d& p, double error, bool ok) {
+  bool finishKnown(LocalStage stage, const Vector3d& p, double error, bool ok) {
     P = p;
     inf.error = error;
     return report(stage, ok);
-  };
-  if (!Win.allFinite() || !allFinite3(b) || !std::isfinite(mu)) {
-    P.setZero();
-    inf.error = INFINITY;
-    return false;
   }
-  tolAbs = tol * std::max(1.0, b.norm());
+};
 
-  // Take-off: P = 0 leaves U = b with U_N >= 0.
-  if (b(0) >= 0) return finish(LocalStage::TakeOff, Vector3d::Zero(), true);
-
-  const double maxDiag = Win.diagonal().maxCoeff();
-  const double tiny = kRelTiny * maxDiag;
-  if (!(Win(0, 0) > tiny)) {  // approaching, but no impulse can stop it: no solution
-    return finish(LocalStage::Failed, Vector3d::Zero(), false);
-  }
-  if (mu <= 0) {
-    return finish(LocalStage::Frictionless, Vector3d(-b(0) / Win(0, 0), 0, 0), true);
-  }
-
-  // A zero tangent row (planar scenes) with b_T = 0 there: replace it by a
-  // decoupled unit-scale row; the solution then has P = 0 on it, as it must.
-  Matrix3d W = Win;
-  bool modified = false;  // W != Win
+// A zero tangent row (planar scenes) with b_T = 0 there: replaced by a
+// decoupled unit-scale row; the solution then has P = 0 on it, as it must.
+// True if W was changed.
+bool decoupleZeroTangents(const Vector3d& b, double maxDiag, double tolAbs, Matrix3d& W) {
+  bool modified = false;
   for (int i = 1; i < 3; ++i) {
     if (W(i, i) <= kRelZeroRow * maxDiag && std::abs(b(i)) <= tolAbs) {
       modified = true;
@@ -352,59 +353,54 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
       W(i, i) = W(0, 0);
     }
   }
+  return modified;
+}
 
-  // Warm start already a solution (NSGS near convergence): nothing to do.
-  if (allFinite3(P) && !P.isZero(0)) {
-    const double e = errorOf(Win, b, mu, P);
-    if (e <= tolAbs) return finishKnown(LocalStage::WarmStart, P, e, true);
-  }
-
-  // Second tangent row decoupled (planar scenes): a 2D contact, solved in
-  // closed form. Stick: the 2 x 2 system U = 0; slide in direction s = +-1:
-  // P_T = -s mu P_N, U_N = 0 gives P_N, valid if s U_T >= 0.
-  if (W(0, 2) == 0 && W(1, 2) == 0 && b(2) == 0) {
-    const Eigen::Matrix2d W2 = W.topLeftCorner<2, 2>();
-    const double det = W2.determinant();
-    if (det > tiny * maxDiag) {
-      const Eigen::Vector2d p = W2.inverse() * -b.head<2>();
-      if (p(0) > 0 && std::abs(p(1)) <= mu * p(0)) {
-        const Vector3d Pc(p(0), p(1), 0);
-        if (errorOf(W, b, mu, Pc) <= tolAbs) return finish(LocalStage::Stick, Pc, true);
-      }
-    }
-    for (double sgn : {1.0, -1.0}) {
-      const double wn = W(0, 0) - sgn * mu * W(0, 1);
-      if (!(wn > tiny)) continue;
-      const double pn = -b(0) / wn;
-      const Vector3d Pc(pn, -sgn * mu * pn, 0);
-      const double ut = W(1, 0) * Pc(0) + W(1, 1) * Pc(1) + b(1);
-      if (pn > 0 && sgn * ut >= 0 && errorOf(W, b, mu, Pc) <= tolAbs)
-        return finish(LocalStage::Newton, Pc, true);
+// Second tangent row decoupled (planar scenes): a 2D contact, solved in
+// closed form. Stick: the 2 x 2 system U = 0; slide in direction s = +-1:
+// P_T = -s mu P_N, U_N = 0 gives P_N, valid if s U_T >= 0. True with Pc and
+// its stage if one of them solves it.
+bool planarClosedForm(const Matrix3d& W, const Vector3d& b, double mu, double tiny, double maxDiag,
+                      double tolAbs, Vector3d& Pc, LocalStage& stage) {
+  if (!(W(0, 2) == 0 && W(1, 2) == 0 && b(2) == 0)) return false;
+  const Eigen::Matrix2d W2 = W.topLeftCorner<2, 2>();
+  const double det = W2.determinant();
+  if (det > tiny * maxDiag) {
+    const Eigen::Vector2d p = W2.inverse() * -b.head<2>();
+    if (p(0) > 0 && std::abs(p(1)) <= mu * p(0)) {
+      Pc = Vector3d(p(0), p(1), 0);
+      stage = LocalStage::Stick;
+      if (errorOf(W, b, mu, Pc) <= tolAbs) return true;
     }
   }
+  for (double sgn : {1.0, -1.0}) {
+    const double wn = W(0, 0) - sgn * mu * W(0, 1);
+    if (!(wn > tiny)) continue;
+    const double pn = -b(0) / wn;
+    Pc = Vector3d(pn, -sgn * mu * pn, 0);
+    stage = LocalStage::Newton;
+    const double ut = W(1, 0) * Pc(0) + W(1, 1) * Pc(1) + b(1);
+    if (pn > 0 && sgn * ut >= 0 && errorOf(W, b, mu, Pc) <= tolAbs) return true;
+  }
+  return false;
+}
 
-  Best best;
-  // Sticking: U = 0. The factor of this very W (bit for bit) from the cache if it
-  // has it: the same factor as computing it again.
-  LocalFactorCache scratch;
-  LocalFactorCache& fc = cache ? *cache : scratch;
+// Sticking: U = 0, W P = -b. The factor of this very W (bit for bit) from the
+// cache if it has it: the same factor as computing it again.
+Vector3d stickingImpulse(const Matrix3d& W, const Vector3d& b, LocalFactorCache& fc) {
   if (!fc.valid || std::memcmp(fc.W.data(), W.data(), sizeof(Matrix3d)) != 0) {
     fc.W = W;
     fc.factored = ldlt3Factor(W, fc.factor, fc.perm);
     fc.valid = true;
   }
-  const Vector3d Ps =
-      fc.factored ? ldlt3Solve(fc.factor, fc.perm, -b) : Vector3d(Eigen::LDLT<Matrix3d>(W).solve(-b));
-  if (allFinite3(Ps)) {
-    const double e = errorOf(W, b, mu, Ps);
-    if (e <= tolAbs && Ps(0) > 0)
-      return modified ? finish(LocalStage::Stick, Ps, true) : finishKnown(LocalStage::Stick, Ps, e, true);
-    best.offer(Ps, e);
-  }
+  return fc.factored ? ldlt3Solve(fc.factor, fc.perm, -b) : Vector3d(Eigen::LDLT<Matrix3d>(W).solve(-b));
+}
 
-  // Semismooth Newton from the starts (warm, projected stick, frictionless),
-  // best merit first; the merit 0.5|Phi|^2 has local minima, so a stalled run
-  // is retried from the next start.
+// Semismooth Newton from the starts (warm, projected stick, frictionless),
+// best merit first; the merit 0.5|Phi|^2 has local minima, so a stalled run
+// is retried from the next start. Returns the Newton iterations.
+int newtonFromStarts(const Matrix3d& W, const Vector3d& b, double mu, double tiny, double tolAbs,
+                     const Vector3d& warm, const Vector3d& Ps, Best& best) {
   const double rhoN = 1.0 / W(0, 0);
   const double wT = 0.5 * (W(1, 1) + W(2, 2));
   const double rhoT = wT > tiny ? 1.0 / wT : rhoN;
@@ -424,23 +420,74 @@ bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, dou
     starts[i] = c;
     merit[i] = mc;
   };
-  if (allFinite3(P) && !P.isZero(0)) addStart(P);
+  if (allFinite3(warm) && !warm.isZero(0)) addStart(warm);
   if (allFinite3(Ps)) addStart(projectFrictionCone(Ps, mu));
   addStart(Vector3d(-b(0) / W(0, 0), 0, 0));
-  for (int i = 0; i < nStarts && best.err > tolAbs; ++i) {
-    inf.newton_iterations += newtonAlartCurnier(W, b, mu, rhoN, rhoT, tolAbs, starts[i], best);
+  int iterations = 0;
+  for (int i = 0; i < nStarts && best.err > tolAbs; ++i)
+    iterations += newtonAlartCurnier(W, b, mu, rhoN, rhoT, tolAbs, starts[i], best);
+  return iterations;
+}
+
+}  // namespace
+
+bool solveLocalFrictional(const Matrix3d& Win, const Vector3d& b, double mu, double tol,
+                          Vector3d& P, LocalSolveInfo* info, LocalFactorCache* cache) {
+  LocalSolveInfo local;
+  LocalSolveInfo& inf = info ? *info : local;
+  inf = LocalSolveInfo{};
+  if (!Win.allFinite() || !allFinite3(b) || !std::isfinite(mu)) {
+    P.setZero();
+    inf.error = INFINITY;
+    return false;
   }
-  if (best.err <= tolAbs) return finish(LocalStage::Newton, best.P, true);
+  const double tolAbs = tol * std::max(1.0, b.norm());
+  LocalAnswer ans{Win, b, mu, tolAbs, P, inf};
+
+  // Take-off: P = 0 leaves U = b with U_N >= 0.
+  if (b(0) >= 0) return ans.finish(LocalStage::TakeOff, Vector3d::Zero(), true);
+  const double maxDiag = Win.diagonal().maxCoeff();
+  const double tiny = kRelTiny * maxDiag;
+  if (!(Win(0, 0) > tiny)) {  // approaching, but no impulse can stop it: no solution
+    return ans.finish(LocalStage::Failed, Vector3d::Zero(), false);
+  }
+  if (mu <= 0) return ans.finish(LocalStage::Frictionless, Vector3d(-b(0) / Win(0, 0), 0, 0), true);
+  Matrix3d W = Win;
+  const bool modified = decoupleZeroTangents(b, maxDiag, tolAbs, W);  // W != Win
+
+  // Warm start already a solution (NSGS near convergence): nothing to do.
+  if (allFinite3(P) && !P.isZero(0)) {
+    const double e = errorOf(Win, b, mu, P);
+    if (e <= tolAbs) return ans.finishKnown(LocalStage::WarmStart, P, e, true);
+  }
+  Vector3d Pc;
+  LocalStage planar = LocalStage::Stick;
+  if (planarClosedForm(W, b, mu, tiny, maxDiag, tolAbs, Pc, planar)) return ans.finish(planar, Pc, true);
+
+  Best best;
+  LocalFactorCache scratch;
+  const Vector3d Ps = stickingImpulse(W, b, cache ? *cache : scratch);
+  if (allFinite3(Ps)) {
+    const double e = errorOf(W, b, mu, Ps);
+    if (e <= tolAbs && Ps(0) > 0)
+      return modified ? ans.finish(LocalStage::Stick, Ps, true) : ans.finishKnown(LocalStage::Stick, Ps, e, true);
+    best.offer(Ps, e);
+  }
+  const Vector3d warm = P;
+  inf.newton_iterations += newtonFromStarts(W, b, mu, tiny, tolAbs, warm, Ps, best);
+  if (best.err <= tolAbs) return ans.finish(LocalStage::Newton, best.P, true);
 
   fixedPoint(W, b, mu, tolAbs, best.P, best);
-  if (best.err <= tolAbs) return finish(LocalStage::FixedPoint, best.P, true);
+  if (best.err <= tolAbs) return ans.finish(LocalStage::FixedPoint, best.P, true);
 
   // Last resort: enumerate sliding solutions, then polish the best by Newton.
   slipAngle(W, b, mu, best);
   if (best.err > tolAbs && std::isfinite(best.err)) {
-    newtonAlartCurnier(W, b, mu, rhoN, rhoT, tolAbs, best.P, best);
+    const double rhoN = 1.0 / W(0, 0);
+    const double wT = 0.5 * (W(1, 1) + W(2, 2));
+    newtonAlartCurnier(W, b, mu, rhoN, wT > tiny ? 1.0 / wT : rhoN, tolAbs, best.P, best);
   }
-  return finish(LocalStage::SlipAngle, best.P, true);
+  return ans.finish(LocalStage::SlipAngle, best.P, true);
 }
 
 }  // namespace nscd

@@ -5,6 +5,9 @@
 // error has not halved over kStallWindow sweeps, it turns proximal: every
 // contact problem gets + eps (P - P_previous) (eps = sigma * its mean diagonal),
 // a damping whose fixed points are the same solutions.
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "dense_kernels.hpp"
@@ -21,116 +24,105 @@ constexpr int kStallWindow = 100;       // sweeps without halving the error = st
 constexpr double kProximalSigma = 0.1;  // proximal weight relative to the block diagonal
 
 // The equality block solved exactly for the current U (all bilateral rows at
-// once, from the factor made by the driver).
-void solveEqualities(SolveRun& run) {
-  const int ne = run.ne;
-  SolveRun::Workspace& ws = run.ws;
-  auto& U = run.U;
-  const auto& Wm = run.Wm;
-  Eigen::Ref<Eigen::VectorXd>& P = run.P;
-
+// once, from the factor prepareProblem made).
+void solveEqualities(const SolveProblem& pr, Iterate& it) {
+  const int ne = pr.ne;
+  const SolverWorkspace& ws = pr.ws;
   if (ne == 0) return;
-  double* x = ws.eqRhs.data();
-  for (int a = 0; a < ne; ++a) x[a] = -U(ws.eqRows[a]);
+  double* x = pr.ws.eqRhs.data();
+  for (int a = 0; a < ne; ++a) x[a] = -it.U(ws.eqRows[a]);
   pivotedCholeskySolve(ws.eqL.data(), int(ws.eqL.rows()), ne, ws.eqRank, ws.eqPerm.data(), x, x + ne);
   for (int a = 0; a < ne; ++a) {
     if (x[a] == 0) continue;
-    U += x[a] * Wm.col(ws.eqRows[a]);
-    P(ws.eqRows[a]) += x[a];
+    it.U += x[a] * pr.Wm.col(ws.eqRows[a]);
+    it.P(ws.eqRows[a]) += x[a];
+  }
+}
+
+// One frictional block by the local solver, proximal when sigma > 0.
+void sweepFrictional(const SolveProblem& pr, const ProblemBlock& bl, double sigma, Iterate& it) {
+  const int r = bl.row;
+  Matrix3d Wl = pr.W.block<3, 3>(r, r);
+  const Vector3d Pold = it.P.segment<3>(r);
+  Vector3d bl3 = it.U.segment<3>(r) - Wl * Pold;
+  if (sigma > 0) {  // proximal term eps |P - Pold|^2 / 2
+    const double eps = sigma * Wl.trace() / 3;
+    Wl.diagonal().array() += eps;
+    bl3 -= eps * Pold;
+  }
+  Vector3d Pnew = Pold;
+  solveLocalFrictional(Wl, bl3, bl.mu, pr.localTol, Pnew, nullptr, &pr.ws.localFactor[r]);
+  const Vector3d dP = Pnew - Pold;
+  if (!dP.isZero(0)) {
+    it.U.noalias() += pr.Wm.middleCols<3>(r) * dP;
+    it.P.segment<3>(r) = Pnew;
+  }
+}
+
+void sweepFrictionless(const SolveProblem& pr, const ProblemBlock& bl, double sigma, Iterate& it) {
+  const int r = bl.row;
+  const double w = pr.W(r, r);
+  const double pn = w > pr.zeroDiag ? std::max(0.0, it.P(r) - it.U(r) / ((1 + sigma) * w)) : 0.0;
+  const double dP = pn - it.P(r);
+  if (dP != 0) {
+    it.U += dP * pr.Wm.col(r);
+    it.P(r) = pn;
+  }
+}
+
+// One pass over the blocks; the equalities all at the first bilateral block.
+void sweep(const SolveProblem& pr, double sigma, Iterate& it) {
+  bool eqDone = false;
+  for (const ProblemBlock& bl : pr.blocks) {
+    switch (bl.kind) {
+      case BlockKind::Frictional: sweepFrictional(pr, bl, sigma, it); break;
+      case BlockKind::Frictionless: sweepFrictionless(pr, bl, sigma, it); break;
+      case BlockKind::Bilateral:
+        if (!eqDone) solveEqualities(pr, it);
+        eqDone = true;
+        break;
+    }
+  }
+}
+
+// After sweep number `sweeps`: the stall watch (the sweeps turn proximal).
+void watchStall(double err, int sweeps, NsgsState& st) {
+  if (err < 0.5 * st.stallErr) {
+    st.stallErr = err;
+    st.stallIt = sweeps;
+  } else if (st.sigma == 0 && sweeps - st.stallIt >= kStallWindow) {
+    st.sigma = kProximalSigma;
   }
 }
 
 }  // namespace
 
 bool runNsgs(SolveRun& run, int until) {
-  const auto& W = run.W;
-  const std::vector<ProblemBlock>& blocks = run.blocks;
-  const SolverOptions& options = run.options;
-  Eigen::Ref<Eigen::VectorXd>& P = run.P;
-  const auto& Wm = run.Wm;
-  auto& U = run.U;
+  const SolveProblem& pr = run.problem;
+  Iterate& it = run.it;
   SolverReport& rep = run.rep;
-  double& err = run.err;
-  const double zeroDiag = run.zeroDiag;
-  const double localTol = run.localTol;
-  const double bnorm = run.bnorm;
-  double& sigma = run.sigma;
-  double& stallErr = run.stallErr;
-  int& stallIt = run.stallIt;
-
   while (rep.sweeps < until) {
-    bool eqDone = false;
-    for (const ProblemBlock& bl : blocks) {
-      const int r = bl.row;
-      switch (bl.kind) {
-        case BlockKind::Frictional: {
-          Matrix3d Wl = W.block<3, 3>(r, r);
-          const Vector3d Pold = P.segment<3>(r);
-          Vector3d bl3 = U.segment<3>(r) - Wl * Pold;
-          if (sigma > 0) {  // proximal term eps |P - Pold|^2 / 2
-            const double eps = sigma * Wl.trace() / 3;
-            Wl.diagonal().array() += eps;
-            bl3 -= eps * Pold;
-          }
-          Vector3d Pnew = Pold;
-          solveLocalFrictional(Wl, bl3, bl.mu, localTol, Pnew, nullptr, &run.ws.localFactor[r]);
-          const Vector3d dP = Pnew - Pold;
-          if (!dP.isZero(0)) {
-            U.noalias() += Wm.middleCols<3>(r) * dP;
-            P.segment<3>(r) = Pnew;
-          }
-          break;
-        }
-        case BlockKind::Frictionless: {
-          const double w = W(r, r);
-          const double pn = w > zeroDiag ? std::max(0.0, P(r) - U(r) / ((1 + sigma) * w)) : 0.0;
-          const double dP = pn - P(r);
-          if (dP != 0) {
-            U += dP * Wm.col(r);
-            P(r) = pn;
-          }
-          break;
-        }
-        case BlockKind::Bilateral:
-          if (!eqDone) solveEqualities(run);  // all equalities at the first one
-          eqDone = true;
-          break;
-      }
+    sweep(pr, run.nsgs.sigma, it);
+    const int sweeps = ++rep.sweeps;
+    if (sweeps % kRefreshEvery == 0) {
+      it.U.noalias() = pr.Wm * it.P.head(pr.m);
+      it.U += pr.b.head(pr.m);
     }
-    const int it = ++rep.sweeps;
-    if (it % kRefreshEvery == 0) run.refreshU();
-    err = errorFromU(blocks, P.data(), U.data(), bnorm);
-    if (!std::isfinite(err)) return false;
-    if (err < 0.5 * stallErr) {
-      stallErr = err;
-      stallIt = it;
-    } else if (sigma == 0 && it - stallIt >= kStallWindow) {
-      sigma = kProximalSigma;
-    }
-    if (err <= options.tolerance) {
-      run.refreshU();  // confirm on the exact U before declaring convergence
-      err = errorFromU(blocks, P.data(), U.data(), bnorm);
-      if (err <= options.tolerance) {
+    it.err = errorFromU(pr.blocks, it.P.data(), it.U.data(), pr.bnorm);
+    if (!std::isfinite(it.err)) return false;
+    watchStall(it.err, sweeps, run.nsgs);
+    // Converged: confirmed on the exact U before it is declared.
+    if (it.err <= pr.tolerance) {
+      refreshIterate(pr, it);
+      if (it.err <= pr.tolerance) {
         rep.converged = true;
         break;
       }
     }
-    run.offerBest();
+    run.best.offer(it);
   }
-  run.offerBest();
+  run.best.offer(it);
   return true;
-}
-
-void resumeNsgs(SolveRun& run) {
-  Eigen::Ref<Eigen::VectorXd>& P = run.P;
-  const int m = run.m;
-  SolveRun::Workspace& ws = run.ws;
-
-  P.head(m) = ws.Pstart.head(m);
-  run.refreshU();
-  run.err = errorFromU(run.blocks, P.data(), run.U.data(), run.bnorm);
-  run.stallErr = run.err;
-  run.stallIt = run.rep.sweeps;
 }
 
 }  // namespace nscd

@@ -1,5 +1,5 @@
-// Stage 4b: solve the friction-contact problem (friction_contact_solver.cpp) and
-// apply its impulses: v+ = v_free + Ŵ G^T P.
+// Stage 4b: the solver's options for a step, and the impulses applied:
+// v+ = v_free + Ŵ G^T P. (The solve itself and its rescues: rescue_policy.cpp.)
 #include <cstdint>
 
 #include "step_stages.hpp"
@@ -26,22 +26,6 @@ void applyImpulses(StepWorkspace& ws) {
       const int c = __builtin_ctzll(m);
       ws.vnew.segment<6>(6 * c) += ws.P[j] * ws.Y.block<6, 1>(6 * c, j);
     }
-}
-
-SolverReport solveFrictionContact(StepWorkspace& ws, SolverOptions& options) {
-  const int r = ws.rows;
-  const auto W = ws.W.topLeftCorner(r, r);
-  const auto b = ws.b.head(r);
-  SolverReport rep = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
-  if (!ws.P.head(r).allFinite() && W.allFinite() && b.allFinite()) {
-    // A non-finite answer from the Newton stage is never applied: solve again
-    // cold by plain NSGS.
-    ws.P.head(r).setZero();
-    options.method = SolverMethod::NSGS;
-    rep = ws.solver.solve(W, b, ws.problem, options, ws.P.head(r));
-  }
-  applyImpulses(ws);
-  return rep;
 }
 
 }  // namespace nscd

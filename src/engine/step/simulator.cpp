@@ -114,7 +114,7 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
           half == 0 ? 0.5 * (state_.prev_commands[i] + end_command[i]) : end_command[i];
     StepStatus s = advance(0.5 * h, level, 2 * index + half);
     if (s == StepStatus::NotConverged && level < max_level) {
-      total.iterations += out_->stats.iterations;  // the dropped attempt's work
+      addDroppedAttempt(out_->stats, total);
       s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
     } else {
       addSubstep(out_->stats, level, *out_, total, *refine_out_);
@@ -152,7 +152,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   findContactCandidates(m, state_, h, CandidateMode::Step, 0.0, state_.ring_hint.data(), ws);
   activateContacts(m, state_, h, CandidateMode::Step, ws);
 
-  // 3-4. Delassus operator, problem, solve, safeguards; contacts the answer
+  // 3-4. Delassus operator, problem, solve and rescues; contacts the answer
   // closes (a light body kicked from one joint into another) join, and the
   // problem is solved again from this answer.
   if (ws.rows > 0) {
@@ -160,17 +160,9 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
     for (int round = 0;; ++round) {
       assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);
       buildFrictionContactProblem(m, state_, h, kept, ws, st);
-      SolverOptions options = solverOptions(set);
-      if (observer_) ws.P_start.head(ws.rows) = ws.P.head(ws.rows);
-      SolverReport rep = solveFrictionContact(ws, options);
-      if (observer_) {
-        const int r = ws.rows;
-        observer_(ProblemView{state_.t, round, ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem,
-                              ws.P_start.head(r), ws.P.head(r), rep, halvings, substep});
-      }
       const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
-      applyImpactSafeguards(m, ws, options, rep, st, !may_halve,
-                            ResolveObserver{observe, state_.t, round, halvings, substep});
+      const SolverReport rep = solveWithRescues(m, ws, solverOptions(set), may_halve,
+                                                ResolveObserver{observe, state_.t, round, halvings, substep}, st);
       iterations += rep.iterations;
       st.iterations = iterations;
       st.residual = rep.residual;

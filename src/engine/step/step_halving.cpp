@@ -1,7 +1,8 @@
 // Stage 8: step halving. A step whose friction-contact problem the solver leaves
 // unsolved is taken again from its start as two steps of h/2, each halved again
-// while unsolved (Simulator::step, Settings::max_step_halvings); the fallbacks
-// that change the physics (impact_safeguards.cpp) wait for the smallest step.
+// while unsolved (Simulator::step, Settings::max_step_halvings): the Halving row
+// of the rescue policy (rescue_policy.cpp), whose later rescues wait for the
+// smallest step.
 // Why: within one step a light link can cross a tight bearing, so that contacts
 // on both sides of it enter one problem with Newton's law on each; such a problem
 // may have no solution at all (stress case 939: not strictly feasible, and no
@@ -21,10 +22,15 @@ double largerChange(double a, double b) { return std::abs(b) > std::abs(a) ? b :
 
 }  // namespace
 
+void addDroppedAttempt(const StepStats& attempt, StepStats& total) {
+  total.iterations += attempt.iterations;
+  for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += attempt.solves_by_stage[s];
+}
+
 void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc) {
   total = StepStats();
-  total.iterations = attempt.iterations;
   total.substeps = 0;
+  addDroppedAttempt(attempt, total);
   std::fill(acc.actuator_effort.begin(), acc.actuator_effort.end(), 0.0);
   std::fill(acc.pair_fn.begin(), acc.pair_fn.end(), 0.0);
   std::fill(acc.pair_ft_vec.begin(), acc.pair_ft_vec.end(), Vec3::Zero());
@@ -34,12 +40,14 @@ void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& ac
 void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepStats& total,
                 StepOutputs& acc) {
   total.iterations += sub.iterations;
+  for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += sub.solves_by_stage[s];
   if (!(sub.residual <= total.residual)) total.residual = sub.residual;  // NaN stays
   total.converged = total.converged && sub.converged;
   total.active_contacts = sub.active_contacts;
   total.rows = sub.rows;
   total.projection_passes += sub.projection_passes;
   total.projection_least_distance += sub.projection_least_distance;
+  total.cold_retry = total.cold_retry || sub.cold_retry;
   total.plastic_fallback = total.plastic_fallback || sub.plastic_fallback;
   total.late_contacts += sub.late_contacts;
   total.plastic_retry = total.plastic_retry || sub.plastic_retry;

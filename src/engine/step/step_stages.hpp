@@ -110,27 +110,23 @@ void buildFrictionContactProblem(const Model& m, const State& s, double h, int k
 // Takes the Newton impact shift back out of b: the plastic problem.
 void removeRestitution(StepWorkspace& ws);
 
-// ---- 4b. solve (contact_solve.cpp): the problem of rows [0, ws.rows), then
-// v+ = v_free + Ŵ G^T P into ws.vnew. A non-finite answer is solved again cold by
-// plain NSGS (options then say so, for the safeguards' re-solves).
+// ---- 4b. solve (contact_solve.cpp): the solver's options for a step, and
+// v+ = v_free + Ŵ G^T P into ws.vnew.
 SolverOptions solverOptions(const Settings& set);
-SolverReport solveFrictionContact(StepWorkspace& ws, SolverOptions& options);
 void applyImpulses(StepWorkspace& ws);
 
-// ---- 4c. safeguards (impact_safeguards.cpp): an impact that would add energy is
-// solved plastic; and, as the last resort (the step cannot be halved any more), a
-// problem left unsolved is solved plastic, one left far from solved is taken
-// frictionless and plastic, then scaled so it adds no kinetic energy. Each
-// counted in st. Each re-solve is shown to observe.fn, if set, as the step's
-// own solve is (ProblemView::resolve says which).
+// ---- 4c. the solve and its rescues (rescue_policy.cpp): the problem of rows
+// [0, ws.rows) solved and its impulses applied, then the rescues of StepRescue
+// in their order (those after Halving only if !may_halve), each counted in st.
+// Each solve is shown to observe.fn, if set (ProblemView::resolve names a
+// rescue's). Returns the report of the answer that stands.
 struct ResolveObserver {
   const ProblemObserver* fn = nullptr;
   double t = 0;
   int round = 0, halvings = 0, substep = 0;
 };
-void applyImpactSafeguards(const Model& m, StepWorkspace& ws, const SolverOptions& options,
-                           SolverReport& rep, StepStats& st, bool last_resort,
-                           const ResolveObserver& observe);
+SolverReport solveWithRescues(const Model& m, StepWorkspace& ws, const SolverOptions& options, bool may_halve,
+                              const ResolveObserver& observe, StepStats& st);
 
 // ---- 4d. store (impulse_reports.cpp): the impulses as the next step's warm start
 // (in the State), the efforts of prescribed motions, one report per contact point
@@ -179,6 +175,8 @@ double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const 
 // as substeps (Simulator::step); their stats and outputs are gathered here.
 // The unsolved attempt: its work goes into `total`, the accumulated outputs start at 0.
 void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc);
+// An attempt a halving drops: its work (iterations, solves) counted in `total`.
+void addDroppedAttempt(const StepStats& attempt, StepStats& total);
 // A substep kept, of length dt / 2^level: its stats into `total`, its
 // actuator efforts and contact forces (impulse / its length) into `acc`, as
 // their share of the step's impulse.

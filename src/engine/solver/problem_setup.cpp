@@ -1,0 +1,95 @@
+// What every stage of a solve relies on: the problem prepared once (zero rows,
+// the Newton's row scaling, the equality rows assembled into one block and
+// factored), and an iterate (re)started on it.
+#include <algorithm>
+
+#include "dense_kernels.hpp"
+#include "solve_run.hpp"
+
+namespace nscd {
+namespace {
+
+constexpr double kRelZeroDiag = 1e-13;  // a W diagonal below this * max diagonal is a zero row
+constexpr double kEqDrop = 1e-11;       // equality pivots below this * max diagonal: dependent rows
+
+// Zero rows keep P = 0. The Newton's per-row scaling rho.
+void scaleRows(SolveProblem& pr) {
+  const auto& W = pr.W;
+  char* zeroRow = pr.ws.zeroRow.data();
+  double* rho = pr.ws.rho.data();
+  for (int i = 0; i < pr.m; ++i) zeroRow[i] = !(W(i, i) > pr.zeroDiag);
+  for (const ProblemBlock& bl : pr.blocks) {
+    const int r = bl.row;
+    // A bilateral row's Newton function is its velocity U itself (rho 1), the
+    // quantity the error measures: the direction does not depend on a row's
+    // scale, but the line search's merit 0.5 |phi|^2 does, and 1 / W_ii (up to
+    // 4e9 on the rotation rows of the ideal C-60's light links) let it trade the
+    // joints' error for the contacts'.
+    for (int i = r; i < r + bl.size; ++i)
+      rho[i] = zeroRow[i] || bl.kind == BlockKind::Bilateral ? 1.0 : 1.0 / W(i, i);
+    // One scale for the normal and the tangents of a contact (1 / its normal
+    // diagonal): the Alart-Curnier disc P_T - rho U_T then lives in the same
+    // metric as P_N - rho U_N; separate tangent scales made the Newton stall on
+    // the C-60's hyperstatic sets.
+    if (bl.kind == BlockKind::Frictional) rho[r + 1] = rho[r + 2] = rho[r];
+  }
+}
+
+// The equality rows (bilateral, not zero) as one block, factored once.
+void factorEqualities(SolveProblem& pr) {
+  const auto& W = pr.W;
+  SolverWorkspace& ws = pr.ws;
+  const char* zeroRow = ws.zeroRow.data();
+  ws.eqRows.clear();
+  double maxEqDiag = 0;
+  for (const ProblemBlock& bl : pr.blocks) {
+    if (bl.kind != BlockKind::Bilateral) continue;
+    for (int i = bl.row; i < bl.row + bl.size; ++i) {
+      if (zeroRow[i]) continue;
+      ws.eqRows.push_back(i);
+      maxEqDiag = std::max(maxEqDiag, W(i, i));
+    }
+  }
+  const int ne = int(ws.eqRows.size());
+  pr.ne = ne;
+  if (ne > ws.maxEq) {
+    ws.maxEq = ne;
+    ws.eqL.resize(ne, ne);
+    ws.eqRhs.resize(2 * ne);
+    ws.eqPerm.resize(ne);
+  }
+  if (ne > 0) {
+    for (int c = 0; c < ne; ++c)
+      for (int r = 0; r < ne; ++r) ws.eqL(r, c) = W(ws.eqRows[r], ws.eqRows[c]);
+    ws.eqRank = pivotedCholesky(ws.eqL.data(), int(ws.eqL.rows()), ne, kEqDrop * maxEqDiag, ws.eqPerm.data());
+  }
+}
+
+}  // namespace
+
+void prepareProblem(SolveProblem& pr, double maxDiag) {
+  pr.maxDiag = maxDiag;
+  pr.zeroDiag = kRelZeroDiag * maxDiag;
+  scaleRows(pr);
+  factorEqualities(pr);
+  pr.bnorm = pr.b.head(pr.m).norm();
+  pr.localTol = std::max(1e-14, 1e-2 * pr.tolerance);
+}
+
+void refreshIterate(const SolveProblem& pr, Iterate& it) {
+  it.U.noalias() = pr.Wm * it.P.head(pr.m);
+  it.U += pr.b.head(pr.m);
+  it.err = errorFromU(pr.blocks, it.P.data(), it.U.data(), pr.bnorm);
+}
+
+void restartIterate(const SolveProblem& pr, Iterate& it) {
+  const char* zeroRow = pr.ws.zeroRow.data();
+  for (const ProblemBlock& bl : pr.blocks) {
+    if (bl.kind == BlockKind::Frictionless) continue;
+    for (int i = bl.row; i < bl.row + bl.size; ++i)
+      if (zeroRow[i] && (bl.kind == BlockKind::Bilateral || i > bl.row)) it.P(i) = 0;
+  }
+  refreshIterate(pr, it);
+}
+
+}  // namespace nscd
