@@ -564,6 +564,7 @@ const BadCase kBad[] = {
     {"21_ring_span_too_large.urdf", 18, "attribute 'span' of <shape> must be in (0, 6.28"},
     {"22_face_size_one_number.urdf", 19, "attribute 'size' of <shape> type 'face': expected 2 numbers, got '0.2'"},
     {"23_actuator_schedule_decreasing.urdf", 17, "attribute 'schedule' of <actuator>: schedule 'seat=0:-0.015,0.002:-0.015,0.001:0': times must not decrease"},
+    {"24_line_break_in_attribute.urdf", 19, "unknown shape type 'co\\nne'"},
 };
 
 TEST(SceneLoaderBad, EachBadSceneIsRefusedWithFileLineAndReason) {
@@ -869,6 +870,9 @@ TEST(Settings, YamlErrorsNameFileAndLine) {
   EXPECT_EQ(err(bad).rfind(bad + ":4: unknown setting 'time_step' (known: dt,", 0), 0u) << err(bad);
   const std::string malformed = scenePath("test/scenes/bad/malformed.yaml");
   EXPECT_EQ(err(malformed).rfind(malformed + ":4: YAML error", 0), 0u) << err(malformed);
+  // A key with a line break is quoted back on one line (found by fuzz/settings_yaml_fuzzer.cpp).
+  const std::string key = scenePath("test/scenes/bad/line_break_in_key.yaml");
+  EXPECT_EQ(err(key), key + ":3: setting 'simula\\ntion': expected a value, got a mapping");
   const std::string range = nscd_test::writeTemp("theta: 0.5\n\ndt: 0\n", ".yaml");
   EXPECT_EQ(err(range).rfind(range + ":3: setting 'dt'", 0), 0u) << err(range);
   const std::string list = nscd_test::writeTemp("- dt\n- 1\n", ".yaml");
