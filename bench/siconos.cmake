@@ -66,7 +66,8 @@ function(nscd_optional_siconos_targets)
   endif()
 
   if(have_fclib)
-    add_executable(nscd_fclib ${PROJECT_SOURCE_DIR}/tools/fclib/nscd_fclib.cpp)
+    add_executable(nscd_fclib ${PROJECT_SOURCE_DIR}/tools/fclib/nscd_fclib.cpp
+      ${PROJECT_SOURCE_DIR}/tools/fclib/condense_problem.cpp)
     target_include_directories(nscd_fclib SYSTEM PRIVATE ${NSCD_FCLIB_INCLUDE_DIR})
     target_link_libraries(nscd_fclib nscd_engine ${NSCD_FCLIB_LIBRARY})
     if(have_numerics)

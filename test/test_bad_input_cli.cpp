@@ -52,7 +52,7 @@ TEST(BadInputCli, EveryBadSceneExitsWithStatus2AndOneLine) {
 
 TEST(BadInputCli, BadYamlConfigIsRefused) {
   const std::string scene = scenePath("urdf/ball.urdf");
-  for (const char* y : {"bad_settings.yaml", "malformed.yaml"}) {
+  for (const char* y : {"bad_settings.yaml", "malformed.yaml", "line_break_in_key.yaml"}) {
     const std::string cfg = scenePath(std::string("test/scenes/bad/") + y);
     expectRefused("'" + scene + "' --config '" + cfg + "' --duration 0.001 --quiet", cfg);
   }

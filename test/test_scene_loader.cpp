@@ -572,6 +572,7 @@ const BadCase kBad[] = {
     {"29_couple_without_scale.urdf", 47, "<couple> is missing attribute 'scale'"},
     {"30_spring_load_on_ground.urdf", 46, "<couple> of spring 'twist': link 'world' is ground, which takes no load"},
     {"31_angle_in_linear_spring.urdf", 47, "unknown element <angle> in <spring>"},
+    {"32_line_break_in_attribute.urdf", 19, "unknown shape type 'co\\nne'"},
 };
 
 TEST(SceneLoaderBad, EachBadSceneIsRefusedWithFileLineAndReason) {
@@ -886,6 +887,9 @@ TEST(Settings, YamlErrorsNameFileAndLine) {
   EXPECT_EQ(err(bad).rfind(bad + ":4: unknown setting 'time_step' (known: dt,", 0), 0u) << err(bad);
   const std::string malformed = scenePath("test/scenes/bad/malformed.yaml");
   EXPECT_EQ(err(malformed).rfind(malformed + ":4: YAML error", 0), 0u) << err(malformed);
+  // A key with a line break is quoted back on one line (found by fuzz/settings_yaml_fuzzer.cpp).
+  const std::string key = scenePath("test/scenes/bad/line_break_in_key.yaml");
+  EXPECT_EQ(err(key), key + ":3: setting 'simula\\ntion': expected a value, got a mapping");
   const std::string range = nscd_test::writeTemp("theta: 0.5\n\ndt: 0\n", ".yaml");
   EXPECT_EQ(err(range).rfind(range + ":3: setting 'dt'", 0), 0u) << err(range);
   const std::string list = nscd_test::writeTemp("- dt\n- 1\n", ".yaml");

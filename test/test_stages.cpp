@@ -283,3 +283,19 @@ TEST(Stages, CommandSchedules) {
   ASSERT_EQ(over.size(), 1u);
   EXPECT_EQ(over[0].schedule.value(0.5), 7.0);
 }
+
+// Values near the largest double (accepted: the format sets no range): the
+// interpolation stays between its points instead of overflowing to -inf, which
+// setCommand would drop. Found by fuzz/command_schedule_fuzzer.cpp.
+TEST(Stages, CommandScheduleOfHugeValuesStaysBetweenItsPoints) {
+  const CommandSchedule s = parseCommandSchedule("m=0.0007:0,0.0007:1e308,7:4");
+  for (const double t : {0.001, 2.187981, 6.9}) {
+    const double v = s.value(t);
+    EXPECT_TRUE(std::isfinite(v)) << t;
+    EXPECT_GE(v, 4.0) << t;
+    EXPECT_LE(v, 1e308) << t;
+  }
+  const CommandSchedule wide = parseCommandSchedule("m=0:-1.7e308,1:1.7e308");
+  EXPECT_NEAR(wide.value(0.5), 0.0, 1e293);
+  EXPECT_EQ(wide.value(1.0), 1.7e308);
+}

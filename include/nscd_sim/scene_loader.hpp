@@ -11,10 +11,12 @@
 namespace nscd {
 
 // Bad input: what() is the single line "FILE:LINE: what is wrong"
-// (LINE omitted when there is no line to point at, e.g. a missing file).
+// (LINE omitted when there is no line to point at, e.g. a missing file). Control
+// characters in it (the input it quotes may hold a line break) become C escapes
+// such as \n.
 class SceneError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit SceneError(const std::string& what);
 };
 
 // A settings override "key=value" (from --set, YAML or ROS parameters).

@@ -18,6 +18,7 @@
 #include "csv_writer.hpp"
 #include "problem_dump.hpp"
 #include "run_summary.hpp"
+#include "set_option.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/scheduled_step.hpp"
@@ -108,10 +109,10 @@ int main(int argc, char** argv) {
   try {
     if (!config.empty()) overrides = nscd::readSettingsYaml(config);
     for (const std::string& s : sets) {
-      const size_t eq = s.find('=');
-      if (eq == std::string::npos || eq == 0)
+      nscd::SettingOverride o;
+      if (!nscd_run::parseSetOption(s, o))
         return badInput("nscd_run: --set " + s + ": expected key=value");
-      overrides.push_back({s.substr(0, eq), s.substr(eq + 1), "--set"});
+      overrides.push_back(o);
     }
     if (dt != 0 || app.count("--dt")) {
       std::ostringstream os;

@@ -38,6 +38,7 @@ extern "C" {
 #include <string>
 #include <vector>
 
+#include "condense_problem.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/problem_file.hpp"
 
@@ -307,55 +308,14 @@ int fromNscd(const char* in, const char* out, const std::string& title, const st
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
   }
-  std::vector<int> eq, con;  // bilateral rows; contact blocks' first rows
-  for (const nscd::ProblemBlock& bl : p.blocks) {
-    if (bl.kind == nscd::BlockKind::Bilateral)
-      for (int i = bl.row; i < bl.row + bl.size; ++i) eq.push_back(i);
-  }
-  const int nc = static_cast<int>(p.blocks.size());
-  std::vector<double> mu;
-  Eigen::MatrixXd S;  // selects the local rows: 3 per contact (a frictionless one: its normal + 2 inert)
-  std::vector<int> rows;
-  for (const nscd::ProblemBlock& bl : p.blocks) {
-    if (bl.kind == nscd::BlockKind::Bilateral) continue;
-    mu.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.mu : 0.0);
-    rows.push_back(bl.row);
-    rows.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.row + 1 : -1);
-    rows.push_back(bl.kind == nscd::BlockKind::Frictional ? bl.row + 2 : -1);
-  }
-  (void)nc;
-  const int n = static_cast<int>(rows.size()), ne = static_cast<int>(eq.size());
-  if (n == 0) {
+  nscd_fclib::CondensedProblem c;
+  if (!nscd_fclib::condenseProblem(p, c)) {
     std::fprintf(stderr, "%s: no contact (bilateral rows only): not an FCLib problem\n", in);
     return 1;
   }
-  Eigen::MatrixXd Wcc = Eigen::MatrixXd::Zero(n, n), Wce = Eigen::MatrixXd::Zero(n, ne),
-                  Wee(ne, ne);
-  Eigen::VectorXd qc = Eigen::VectorXd::Zero(n), qe(ne);
-  for (int a = 0; a < n; ++a) {
-    if (rows[a] < 0) {
-      Wcc(a, a) = 1;  // an inert tangent: U_T = P_T, and mu = 0 keeps P_T = 0
-      continue;
-    }
-    qc(a) = p.b(rows[a]);
-    for (int c = 0; c < n; ++c)
-      if (rows[c] >= 0) Wcc(a, c) = p.W(rows[a], rows[c]);
-    for (int e = 0; e < ne; ++e) Wce(a, e) = p.W(rows[a], eq[e]);
-  }
-  for (int e = 0; e < ne; ++e) {
-    qe(e) = p.b(eq[e]);
-    for (int f = 0; f < ne; ++f) Wee(e, f) = p.W(eq[e], eq[f]);
-  }
-  Eigen::MatrixXd W = Wcc;
-  Eigen::VectorXd q = qc;
-  if (ne > 0) {  // U_e = 0 eliminates P_e: P_e = -Wee^+ (Wec P_c + q_e)
-    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Wee);
-    W -= Wce * cod.solve(Wce.transpose());
-    q -= Wce * cod.solve(qe);
-    W = 0.5 * (W + W.transpose());
-  }
-  std::printf("%s: %d contacts, %d bilateral rows condensed\n", in, n / 3, ne);
-  return writeLocal(W, q, mu, out, title, descr,
+  std::printf("%s: %d contacts, %d bilateral rows condensed\n", in, static_cast<int>(c.mu.size()),
+              c.bilateral_rows);
+  return writeLocal(c.W, c.q, c.mu, out, title, descr,
                     "U = W r + q, Coulomb friction; nscd_run --dump-problems, bilateral rows condensed");
 }
 

@@ -20,7 +20,12 @@ double CommandSchedule::value(double t) const {
       const auto& b = points[i];
       const double span = b.first - a.first;
       if (span <= 0) return b.second;
-      return a.second + (b.second - a.second) * (t - a.first) / span;
+      const double v = a.second + (b.second - a.second) * (t - a.first) / span;
+      if (std::isfinite(v)) return v;
+      // Values near the largest double: the difference overflows, the convex
+      // combination cannot (and the usual form keeps every other run bit for bit).
+      const double s = (t - a.first) / span;
+      return a.second * (1 - s) + b.second * s;
     }
   }
   return points.back().second;
