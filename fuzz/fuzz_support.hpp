@@ -1,0 +1,50 @@
+// What the fuzz targets share: the repository's files, a scratch file for the
+// readers that take a path, and the oracles (a bad input gets one line, a step
+// never hands out a non-finite figure). A failed oracle aborts: libFuzzer keeps
+// the input as a crash.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "nscd_sim/model.hpp"
+
+namespace nscd_fuzz {
+
+// A file of the repository (NSCD_SOURCE_DIR); aborts if it cannot be read.
+std::string repoFile(const std::string& relative_path);
+
+// Writes the bytes to this process's scratch file (its name ends in `suffix`)
+// and returns its path: the same path on every call with the same suffix.
+std::string scratchFile(const uint8_t* data, size_t size, const std::string& suffix);
+
+// Aborts with "nscd fuzz oracle: WHAT".
+[[noreturn]] void fail(const std::string& what);
+
+// A refusal's message: not empty, one line, starting with `prefix`.
+void expectOneLine(const std::string& message, const std::string& prefix);
+
+// The input's lines (without their '\n').
+std::vector<std::string> lines(const uint8_t* data, size_t size);
+
+// Whether the settings' budgets keep a step short enough to fuzz (max_iterations
+// and projection_max_iterations <= 1000, max_step_halvings <= 4): a user may set
+// 10^7 iterations and wait, a fuzz target may not.
+bool boundedBudget(const nscd::Settings& settings);
+
+// Steps a loaded model: builds the Simulator (an assembly failure is a refusal
+// with one line), then up to `steps` steps; after every step that is not reported
+// NonFinite, the state, energies, contact reports and every key figure must be
+// finite (but a named contact's gap, +inf when its shapes have no point to measure).
+// `on_step(k, sim)` runs before step k (commands); may be empty.
+struct SteppingCommand {
+  int step = 0;  // before this step
+  int actuator = 0;
+  double value = 0;
+};
+void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingCommand>& commands = {},
+                  const std::vector<std::string>& schedules = {}, const std::vector<int>& resets = {});
+
+}  // namespace nscd_fuzz
