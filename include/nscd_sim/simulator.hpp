@@ -242,8 +242,8 @@ class Simulator {
   ProblemObserver observer_;
   // Step halving (Settings::max_step_halvings): per level, the command at the end
   // of the interval being halved; the outputs of the substeps, accumulated.
-  std::vector<std::vector<double>> refine_commands_;
-  std::unique_ptr<StepOutputs> refine_out_;
+  std::vector<std::vector<double>> halving_commands_;
+  std::unique_ptr<StepOutputs> halving_out_;
 
   StepStatus advance(double h, int halvings, int substep);
   StepStatus takeHalves(double h, int level, int index, StepStats& total);

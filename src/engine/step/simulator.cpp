@@ -21,18 +21,18 @@ constexpr int kLateActivationRounds = 3;
 
 Simulator::Simulator(Model model)
     : model_(std::move(model)), ws_(new StepWorkspace), out_(new StepOutputs),
-      query_ws_(new StepWorkspace), refine_out_(new StepOutputs) {
+      query_ws_(new StepWorkspace), halving_out_(new StepOutputs) {
   const Model& m = model_;
   initStepWorkspace(m, *ws_);
   initStepWorkspace(m, *query_ws_);
   initStepOutputs(m, *out_);
-  initStepOutputs(m, *refine_out_);
+  initStepOutputs(m, *halving_out_);
   state_ = initialState(m, *ws_);
   placeJournals(m, state_);
   assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
   // Sized once: a halving copies commands without allocating.
-  refine_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
+  halving_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
 }
 
 Simulator::~Simulator() = default;
@@ -79,9 +79,9 @@ StepStatus Simulator::step() {
   // Unsolved: taken again from its start (advance left the state as it found it)
   // as two steps of h/2 (step_halving.cpp). The attempt's work is counted.
   StepStats total;
-  startHalvedStep(out_->stats, total, *refine_out_);
+  startHalvedStep(out_->stats, total, *halving_out_);
   const StepStatus halves = takeHalves(h, 1, 0, total);
-  finishHalvedStep(total, *refine_out_, *out_);
+  finishHalvedStep(total, *halving_out_, *out_);
   return halves;
 }
 
@@ -91,7 +91,7 @@ StepStatus Simulator::step() {
 // the first half ends on their mean (a prescribed motion keeps its rate).
 StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& total) {
   const int max_level = model_.settings.max_step_halvings;
-  std::vector<double>& end_command = refine_commands_[level];
+  std::vector<double>& end_command = halving_commands_[level];
   end_command = state_.commands;
   for (int half = 0; half < 2; ++half) {
     for (size_t i = 0; i < end_command.size(); ++i)
@@ -102,7 +102,7 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
       addDroppedAttempt(out_->stats, total);
       s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
     } else {
-      addSubstep(out_->stats, level, *out_, total, *refine_out_);
+      addSubstep(out_->stats, level, *out_, total, *halving_out_);
     }
     if (s == StepStatus::NonFinite) return s;
   }
