@@ -43,7 +43,7 @@ struct State {
   // Per joint, its coordinate followed continuously from the start: a revolute
   // joint's angle is unwrapped across steps (it passes +-pi as it turns, 10 turns
   // are 20 pi), a prismatic joint's position. Drives, springs and reports use it.
-  std::vector<double> joint_angle;
+  std::vector<double> joint_position;
 };
 
 // One active contact point after a step (what the node and the CSV report).
@@ -217,7 +217,7 @@ class Simulator {
   double clearanceEccentricity(int cj) const;
   double clearanceEccentricityAngle(int cj) const;
   double clearanceNormalForce(int cj) const;
-  // Joint coordinate, continuous across turns (State::joint_angle): rad, or m
+  // Joint coordinate, continuous across turns (State::joint_position): rad, or m
   // for a prismatic joint.
   double jointPosition(int joint) const;
   double jointVelocity(int joint) const;  // rad/s or m/s

@@ -174,7 +174,7 @@ double springForceAt(const Model& m, const State& s, int spring) {
   Vec6 fa, fb;
   double report = 0;
   static const std::vector<double> kNoCommands;
-  const double ref = sp.type == SpringType::Torsion ? s.joint_angle[sp.joint] : 0.0;
+  const double ref = sp.type == SpringType::Torsion ? s.joint_position[sp.joint] : 0.0;
   elementForce(m, Element{true, spring, sp.body_a, sp.body_b, sp.joint}, bodyOrGround(s, sp.body_a),
                bodyOrGround(s, sp.body_b), kNoCommands, ref, fa, fb, report);
   return report;
@@ -218,7 +218,7 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     const BodyState& b0 = bodyOrGround(s, el.body_b);
     Vec6 fa, fb;
     double report = 0;
-    const double ref = el.joint >= 0 ? s.joint_angle[el.joint] : 0.0;
+    const double ref = el.joint >= 0 ? s.joint_position[el.joint] : 0.0;
     elementForce(m, el, a0, b0, commands, ref, fa, fb, report);
     if (!el.is_spring) out.actuator_effort[el.index] = report;
     if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;

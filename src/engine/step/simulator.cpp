@@ -49,7 +49,7 @@ void Simulator::setState(const State& s) {
       s.prev_commands.size() != ref.prev_commands.size() || s.warm.size() != ref.warm.size() ||
       s.warm_valid.size() != ref.warm_valid.size() ||
       s.warm_bilateral.size() != ref.warm_bilateral.size() ||
-      s.ring_hint.size() != ref.ring_hint.size() || s.joint_angle.size() != ref.joint_angle.size())
+      s.ring_hint.size() != ref.ring_hint.size() || s.joint_position.size() != ref.joint_position.size())
     throw std::invalid_argument("setState: the state was not made for this model (sizes differ)");
   bool finite = std::isfinite(s.t);
   for (const BodyState& b : s.bodies)
@@ -57,7 +57,7 @@ void Simulator::setState(const State& s) {
              b.w.allFinite();
   for (double c : s.commands) finite = finite && std::isfinite(c);
   for (double c : s.prev_commands) finite = finite && std::isfinite(c);
-  for (double a : s.joint_angle) finite = finite && std::isfinite(a);
+  for (double a : s.joint_position) finite = finite && std::isfinite(a);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
   state_ = s;
   ws_->narrow.valid = false;  // its key would tell too; no memo outlives a jump
@@ -196,7 +196,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   }
   clearConstraintRows(ws);
 
-  trackJointAngles(m, state_);
+  trackJointPositions(m, state_);
 
   bool finite = ws.vnew.allFinite();
   for (const BodyState& b : state_.bodies)
