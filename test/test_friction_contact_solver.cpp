@@ -605,7 +605,7 @@ void runRandomProblems(const char* name, unsigned seed, SolverMethod method, Ndo
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::normal_distribution<double> g(0, 1);
-  FrictionContactSolver s;  // reused: workspace grows, then stays
+  FrictionContactSolver s;  // reused: buffers grow, then stay
   std::vector<int> its;
   int failures = 0;
   const int n = 60;
@@ -1030,7 +1030,7 @@ TEST(ConeInteriorPoint, ProjectsOntoCones) {
                                       {ConeBlock::HalfLine, 6, 1}, {ConeBlock::Free, 7, 2},
                                       {ConeBlock::SecondOrder, 9, 3}};
   const int n = 12;
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   for (int trial = 0; trial < 50; ++trial) {
     VectorXd a(n);
     for (int i = 0; i < n; ++i) a(i) = g(rng);
@@ -1050,7 +1050,7 @@ TEST(ConeInteriorPoint, ProjectsOntoCones) {
     }
     want(6) = std::max(0.0, a(6));
     VectorXd y(n);
-    const ConeQpReport rep = solveConeQp(MatrixXd::Identity(n, n), -a, blocks, n, ws, y);
+    const ConeQpReport rep = solveConeQp(MatrixXd::Identity(n, n), -a, blocks, n, qp, y);
     EXPECT_TRUE(rep.converged) << trial;
     EXPECT_LE((y - want).norm(), 1e-8 * (1 + want.norm())) << trial << ": " << y.transpose();
   }
@@ -1067,9 +1067,9 @@ TEST(ConeInteriorPoint, SingularQReachesTheMinimum) {
   const MatrixXd Q = A.transpose() * A;
   const VectorXd q = A.transpose() * c;
   const std::vector<ConeBlock> blocks{{ConeBlock::SecondOrder, 0, 3}, {ConeBlock::SecondOrder, 3, 3}};
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   VectorXd y(6);
-  const ConeQpReport rep = solveConeQp(Q, q, blocks, 6, ws, y);
+  const ConeQpReport rep = solveConeQp(Q, q, blocks, 6, qp, y);
   EXPECT_TRUE(rep.converged);
   EXPECT_LE((A * y + c).norm(), 1e-6 * c.norm()) << y.transpose();
   for (int r : {0, 3}) EXPECT_GE(y(r) - y.segment<2>(r + 1).norm(), -1e-10);
@@ -1085,9 +1085,9 @@ TEST(ConeInteriorPoint, UnboundedOptimalSetGivesTheLeastSqueeze) {
   Q << 1, -1, -1, 1;
   const VectorXd q = (VectorXd(2) << -1, 1).finished();
   const std::vector<ConeBlock> blocks{{ConeBlock::HalfLine, 0, 1}, {ConeBlock::HalfLine, 1, 1}};
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   VectorXd y(2);
-  solveConeQp(Q, q, blocks, 2, ws, y);
+  solveConeQp(Q, q, blocks, 2, qp, y);
   EXPECT_NEAR(y(0), 1, 1e-6) << y.transpose();
   EXPECT_NEAR(y(1), 0, 1e-6) << y.transpose();
 }
