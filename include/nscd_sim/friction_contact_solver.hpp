@@ -88,7 +88,9 @@ struct SolverOptions {
 };
 
 struct SolverReport {
-  int iterations = 0;         // sweeps + newton_iterations + interior_point_iterations
+  // sweeps + newton_iterations + interior_point_iterations: steps of unlike cost
+  // summed into one work count (what StepStats::iterations and the CSV's iters add up).
+  int iteration_sum = 0;
   double residual = 0;        // solverError at exit
   bool converged = false;
   int sweeps = 0;             // NSGS sweeps

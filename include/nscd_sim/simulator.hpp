@@ -61,7 +61,7 @@ struct ContactReport {
 };
 
 struct StepStats {
-  int iterations = 0;
+  int iterations = 0;  // the SolverReport::iteration_sum of the step's solves, added
   double residual = 0;
   bool converged = true;
   int active_contacts = 0;

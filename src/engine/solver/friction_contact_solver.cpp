@@ -81,7 +81,7 @@ bool solveSingleContact(const Eigen::Ref<const Eigen::MatrixXd>& W,
   rep.residual = err;
   rep.converged = true;
   rep.sweeps = 1;
-  rep.iterations = 1;
+  rep.iteration_sum = 1;
   rep.stage = SolverStage::LocalSolver;
   return true;
 }
@@ -134,7 +134,7 @@ void growBuffers(FrictionContactSolver::Buffers& buf, int m, bool newtonAllowed)
 // The report; if not converged, the best iterate and its error on the exact U.
 void finishRun(SolveRun& run, bool ok) {
   SolverReport& rep = run.rep;
-  rep.iterations = rep.sweeps + rep.newton_iterations + rep.interior_point_iterations;
+  rep.iteration_sum = rep.sweeps + rep.newton_iterations + rep.interior_point_iterations;
   if (!ok) {
     rep.residual = INFINITY;
     rep.stage = SolverStage::Failed;

@@ -148,7 +148,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
       const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
       const SolverReport rep = solveWithRescues(m, ws, solverOptions(set), may_halve,
                                                 ResolveObserver{observe, state_.t, round, halvings, substep}, st);
-      iterations += rep.iterations;
+      iterations += rep.iteration_sum;
       st.iterations = iterations;
       st.residual = rep.residual;
       st.converged = rep.converged;
