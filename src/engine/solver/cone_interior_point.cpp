@@ -28,9 +28,9 @@ constexpr double kRegularisation = 1e-13;  // added to the scaled system's diago
 // Tikhonov term added to the scaled Q: the problem's optimal set is unbounded when
 // a direction of zero curvature stays inside the cones (a hyperstatic set squeezed
 // by opposed contacts), and the interior-point iterates then run off along it
-// towards its analytic centre: on the C-60 trip at dt 1e-4 one step's contact
-// forces summed to 1.2e6 N instead of 4.4e3 N. With it the answer is the
-// problem's nearest to y = 0, bounded, the squeeze left out.
+// towards its analytic centre, with contact forces orders of magnitude above the
+// load (docs/solver.md). With it the answer is the problem's nearest to y = 0,
+// bounded, the squeeze left out.
 constexpr double kTikhonov = 1e-8;
 
 double lorentzDet(const double* u) { return u[0] * u[0] - u[1] * u[1] - u[2] * u[2]; }
