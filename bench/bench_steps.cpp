@@ -150,7 +150,7 @@ void BM_FrictionlessContacts(benchmark::State& state) {
     P.setZero();
     const SolverReport rep = three_rows ? solver.solve(W3, b3, blocks, opt, P)
                                         : solver.solve(W1, b1, blocks, opt, P);
-    iters += rep.iterations;
+    iters += rep.iteration_sum;
     ++k;
   }
   state.counters["iterations"] = k ? double(iters) / k : 0.0;

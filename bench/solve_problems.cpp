@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
     }
     const std::string name = f.substr(f.find_last_of('/') + 1);
     std::printf("%-28s %5d %6s %9d %6d %6d %10.3g %-16s %10.1f\n", name.c_str(), int(p.b.size()),
-                rep.converged ? "yes" : "NO", rep.iterations, rep.sweeps, rep.newton_iterations,
+                rep.converged ? "yes" : "NO", rep.iteration_sum, rep.sweeps, rep.newton_iterations,
                 rep.residual, nscd::solverStageName(rep.stage), best);
     ++finished[static_cast<int>(rep.stage)];
     if (!solution_dir.empty()) {
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
       }
     }
     solved += rep.converged;
-    iters += rep.iterations;
+    iters += rep.iteration_sum;
     total_us += best;
   }
   std::printf("stages:");

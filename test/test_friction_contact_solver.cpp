@@ -370,7 +370,7 @@ TEST_P(Nsgs, HyperstaticBoxAtRest) {
   o.max_iterations = 2000;
   const SolverReport r = s.solve(W, b, blocks, o, P);
   std::printf("[ figures  ] %s box at rest (hyperstatic): %d iterations, residual %.2e\n",
-              methodName(GetParam()), r.iterations, r.residual);
+              methodName(GetParam()), r.iteration_sum, r.residual);
   ASSERT_TRUE(r.converged);
   EXPECT_LE(solverError(W, b, P, blocks), 1e-10);
   double sumN = 0;
@@ -396,7 +396,7 @@ TEST_P(Nsgs, HyperstaticBoxSliding) {
   o.max_iterations = 2000;
   const SolverReport r = s.solve(W, b, blocks, o, P);
   std::printf("[ figures  ] %s box sliding (hyperstatic): %d iterations, residual %.2e\n",
-              methodName(GetParam()), r.iterations, r.residual);
+              methodName(GetParam()), r.iteration_sum, r.residual);
   ASSERT_TRUE(r.converged);
   double sumN = 0, sumX = 0, sumY = 0;
   for (int k = 0; k < 4; ++k) {
@@ -420,7 +420,7 @@ TEST_P(Nsgs, BilateralBlockExact) {
   FrictionContactSolver s;
   const SolverReport r = s.solve(W, b, blocks, opts(), P);
   EXPECT_TRUE(r.converged);
-  EXPECT_EQ(r.iterations, 1);
+  EXPECT_EQ(r.iteration_sum, 1);
   const VectorXd Pexact = -W.ldlt().solve(b);
   EXPECT_LT((P - Pexact).norm(), 1e-14);
   EXPECT_LT((W * P + b).norm(), 1e-14);
@@ -469,9 +469,9 @@ TEST_P(Nsgs, WarmStartFromSolution) {
   ASSERT_TRUE(cold.converged);
   const SolverReport warm = s.solve(W, b, blocks, o, P);
   EXPECT_TRUE(warm.converged);
-  EXPECT_LE(warm.iterations, 1);
+  EXPECT_LE(warm.iteration_sum, 1);
   std::printf("[ figures  ] %s warm start: cold %d iterations, warm %d\n", methodName(GetParam()),
-              cold.iterations, warm.iterations);
+              cold.iteration_sum, warm.iteration_sum);
 }
 
 TEST_P(Nsgs, NonFiniteReportsFailure) {
@@ -482,7 +482,7 @@ TEST_P(Nsgs, NonFiniteReportsFailure) {
   FrictionContactSolver s;
   SolverReport r = s.solve(W, b, blocks, opts(), P);
   EXPECT_FALSE(r.converged);
-  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.iteration_sum, 0);
   W(0, 0) = 1;
   b(1) = INFINITY;
   r = s.solve(W, b, blocks, opts(), P);
@@ -514,7 +514,7 @@ TEST_P(Nsgs, NonFiniteOffDiagonalReportsFailure) {
           FrictionContactSolver s;
           const SolverReport r = s.solve(W, b, blocks, opts(), P);
           EXPECT_FALSE(r.converged) << m << " " << i << " " << j << " " << bad;
-          EXPECT_EQ(r.iterations, 0) << m << " " << i << " " << j << " " << bad;
+          EXPECT_EQ(r.iteration_sum, 0) << m << " " << i << " " << j << " " << bad;
         }
       }
     }
@@ -605,7 +605,7 @@ void runRandomProblems(const char* name, unsigned seed, SolverMethod method, Ndo
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::normal_distribution<double> g(0, 1);
-  FrictionContactSolver s;  // reused: workspace grows, then stays
+  FrictionContactSolver s;  // reused: buffers grow, then stay
   std::vector<int> its;
   int failures = 0;
   const int n = 60;
@@ -637,11 +637,11 @@ void runRandomProblems(const char* name, unsigned seed, SolverMethod method, Ndo
     if (!r.converged) {
       ++failures;
       ADD_FAILURE() << "problem " << k << " (" << nc << " contacts, m " << m << ", ndof " << ndof
-                    << "): residual " << r.residual << " after " << r.iterations;
+                    << "): residual " << r.residual << " after " << r.iteration_sum;
     }
     EXPECT_LE(solverError(W, b, P, blocks), 1e-8) << k;
     EXPECT_NEAR(solverError(W, b, P, blocks), r.residual, 1e-12) << k;
-    its.push_back(r.iterations);
+    its.push_back(r.iteration_sum);
   }
   std::sort(its.begin(), its.end());
   double mean = 0;
@@ -737,13 +737,13 @@ TEST_P(Nsgs, TwoRingsAtRest) {
   const SolverReport r = s.solve(W, b, blocks, o, P);
   ASSERT_TRUE(r.converged) << r.residual;
   std::printf("[ figures  ] %s two rings at rest (tol 1e-12): %d iterations\n", methodName(GetParam()),
-              r.iterations);
+              r.iteration_sum);
   // |U| <= 1e-12 and the smallest eigenvalue of W (~1e-3) bound the error on P.
   const double mgh = tr.m * tr.g * tr.h;
   EXPECT_NEAR(P(0), mgh * (tr.a - tr.zc) / (2 * tr.a), 1e-9);
   EXPECT_NEAR(P(3), mgh * (tr.zc + tr.a) / (2 * tr.a), 1e-9);
   EXPECT_LT((W * P + b).norm(), 1e-12);
-  EXPECT_EQ(r.iterations, r.sweeps + r.newton_iterations);
+  EXPECT_EQ(r.iteration_sum, r.sweeps + r.newton_iterations);
 }
 
 // Swinging and sliding along/around the axis: random velocities and mu.
@@ -771,8 +771,8 @@ TEST_P(Nsgs, TwoRingsSwinging) {
     ASSERT_TRUE(P.allFinite());
     ASSERT_TRUE(r.converged) << k << " residual " << r.residual;
     expectCoulomb(W, b, P, blocks, 1e-9, "two rings");
-    total += r.iterations;
-    maxIt = std::max(maxIt, r.iterations);
+    total += r.iteration_sum;
+    maxIt = std::max(maxIt, r.iteration_sum);
   }
   std::printf("[ figures  ] %s two rings (tol 1e-10): iterations mean %.1f, max %d\n",
               methodName(GetParam()), double(total) / n, maxIt);
@@ -846,7 +846,7 @@ TEST_P(Nsgs, FourBarAllBilateralInOneIteration) {
       const SolverReport r = s.solve(W, b, blocks, o, P);
       ASSERT_TRUE(P.allFinite());
       EXPECT_TRUE(r.converged) << "planar " << planar << " residual " << r.residual;
-      EXPECT_EQ(r.iterations, 1) << "planar " << planar;
+      EXPECT_EQ(r.iteration_sum, 1) << "planar " << planar;
       EXPECT_LT((W * P + b).norm(), 1e-12 * std::max(1.0, b.norm()));
       for (int i = 0; i < 20; ++i) {
         if (W(i, i) == 0) {
@@ -892,7 +892,7 @@ TEST(Newton, HardHyperstaticProblems) {
       r[i] = s.solve(W, b, blocks, o, P[i]);
       ASSERT_TRUE(P[i].allFinite()) << k;
       EXPECT_NEAR(solverError(W, b, P[i], blocks), r[i].residual, 1e-12) << k;
-      EXPECT_EQ(r[i].iterations, r[i].sweeps + r[i].newton_iterations);
+      EXPECT_EQ(r[i].iteration_sum, r[i].sweeps + r[i].newton_iterations);
     }
     // Auto is never worse than the sweeps alone, to 1 %: its Newton attempts and
     // their restarts take turns with the sweeps, so an unsolved problem can end a
@@ -905,8 +905,8 @@ TEST(Newton, HardHyperstaticProblems) {
       autoOnHard += r[2].converged;
     }
     if (r[0].converged && r[1].converged) {
-      nsgsIts += r[0].iterations;
-      newtonIts += r[1].iterations;
+      nsgsIts += r[0].iteration_sum;
+      newtonIts += r[1].iteration_sum;
     }
   }
   std::printf("[ figures  ] %d random hyperstatic problems (tol 1e-10): %d need > 200 NSGS sweeps; "
@@ -1030,7 +1030,7 @@ TEST(ConeInteriorPoint, ProjectsOntoCones) {
                                       {ConeBlock::HalfLine, 6, 1}, {ConeBlock::Free, 7, 2},
                                       {ConeBlock::SecondOrder, 9, 3}};
   const int n = 12;
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   for (int trial = 0; trial < 50; ++trial) {
     VectorXd a(n);
     for (int i = 0; i < n; ++i) a(i) = g(rng);
@@ -1050,7 +1050,7 @@ TEST(ConeInteriorPoint, ProjectsOntoCones) {
     }
     want(6) = std::max(0.0, a(6));
     VectorXd y(n);
-    const ConeQpReport rep = solveConeQp(MatrixXd::Identity(n, n), -a, blocks, n, ws, y);
+    const ConeQpReport rep = solveConeQp(MatrixXd::Identity(n, n), -a, blocks, n, qp, y);
     EXPECT_TRUE(rep.converged) << trial;
     EXPECT_LE((y - want).norm(), 1e-8 * (1 + want.norm())) << trial << ": " << y.transpose();
   }
@@ -1067,9 +1067,9 @@ TEST(ConeInteriorPoint, SingularQReachesTheMinimum) {
   const MatrixXd Q = A.transpose() * A;
   const VectorXd q = A.transpose() * c;
   const std::vector<ConeBlock> blocks{{ConeBlock::SecondOrder, 0, 3}, {ConeBlock::SecondOrder, 3, 3}};
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   VectorXd y(6);
-  const ConeQpReport rep = solveConeQp(Q, q, blocks, 6, ws, y);
+  const ConeQpReport rep = solveConeQp(Q, q, blocks, 6, qp, y);
   EXPECT_TRUE(rep.converged);
   EXPECT_LE((A * y + c).norm(), 1e-6 * c.norm()) << y.transpose();
   for (int r : {0, 3}) EXPECT_GE(y(r) - y.segment<2>(r + 1).norm(), -1e-10);
@@ -1085,9 +1085,9 @@ TEST(ConeInteriorPoint, UnboundedOptimalSetGivesTheLeastSqueeze) {
   Q << 1, -1, -1, 1;
   const VectorXd q = (VectorXd(2) << -1, 1).finished();
   const std::vector<ConeBlock> blocks{{ConeBlock::HalfLine, 0, 1}, {ConeBlock::HalfLine, 1, 1}};
-  ConeQpWorkspace ws;
+  ConeQpBuffers qp;
   VectorXd y(2);
-  solveConeQp(Q, q, blocks, 2, ws, y);
+  solveConeQp(Q, q, blocks, 2, qp, y);
   EXPECT_NEAR(y(0), 1, 1e-6) << y.transpose();
   EXPECT_NEAR(y(1), 0, 1e-6) << y.transpose();
 }

@@ -1,5 +1,5 @@
 // Joints driven through many turns: the joint angle is followed continuously
-// across +-pi (State::joint_angle), so a prescribed crank follows its command
+// across +-pi (State::joint_position), so a prescribed crank follows its command
 // and a PD crank its ramp with the PD's tracking error, turn after turn.
 #include <cmath>
 #include <string>

@@ -35,7 +35,7 @@ TEST(ProblemFile, ReadsBackBitForBitAndResolvesToTheRunsAnswer) {
   SolverReport rep;
   rep.residual = p.residual;
   rep.converged = p.converged;
-  rep.iterations = p.iterations;
+  rep.iteration_sum = p.iterations;
   writeProblemFile(again, ProblemView{p.t, p.round, p.W, p.b, p.blocks, p.P_start, p.P, rep});
   std::FILE* a = std::fopen(path.c_str(), "r");
   std::FILE* b = std::fopen(again.c_str(), "r");
@@ -58,7 +58,7 @@ TEST(ProblemFile, ReadsBackBitForBitAndResolvesToTheRunsAnswer) {
   Eigen::VectorXd P = p.P_start;
   const SolverReport r = solver.solve(p.W, p.b, p.blocks, o, P);
   EXPECT_EQ(r.converged, p.converged);
-  EXPECT_EQ(r.iterations, p.iterations);
+  EXPECT_EQ(r.iteration_sum, p.iterations);
   EXPECT_EQ((P - p.P).cwiseAbs().maxCoeff(), 0.0);
   std::remove(path.c_str());
   std::remove(again.c_str());

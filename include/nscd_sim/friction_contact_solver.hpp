@@ -23,7 +23,7 @@
 
 namespace nscd {
 
-struct ConeFixedPointWorkspace;  // cone_fixed_point.cpp
+struct ConeFixedPointBuffers;  // cone_fixed_point.cpp
 
 // The sticking stage's factor of the last matrix it factored, kept for the next call
 // on the same contact (NSGS sweeps solve each contact again with the same W): used
@@ -88,7 +88,9 @@ struct SolverOptions {
 };
 
 struct SolverReport {
-  int iterations = 0;         // sweeps + newton_iterations + interior_point_iterations
+  // sweeps + newton_iterations + interior_point_iterations: steps of unlike cost
+  // summed into one work count (what StepStats::iterations and the CSV's iters add up).
+  int iteration_sum = 0;
   double residual = 0;        // solverError at exit
   bool converged = false;
   int sweeps = 0;             // NSGS sweeps
@@ -104,7 +106,7 @@ double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
                    const Eigen::Ref<const Eigen::VectorXd>& P,
                    const std::vector<ProblemBlock>& blocks);
 
-// Reusable solver: keeps its workspace between calls (no allocation once warm,
+// Reusable solver: keeps its buffers between calls (no allocation once warm,
 // as long as the problem does not grow).
 class FrictionContactSolver {
  public:
@@ -118,7 +120,7 @@ class FrictionContactSolver {
 
   // The solver's buffers, grown to the largest problem seen, never shrunk
   // (internal: src/engine/solver, solve_run.hpp).
-  struct Workspace {
+  struct Buffers {
     int maxRows = 0;            // capacity in rows
     int maxEq = 0;              // capacity in equality rows
     Eigen::VectorXd U, Pbest, Pstart;  // running local velocities; best iterate; Newton start
@@ -138,13 +140,13 @@ class FrictionContactSolver {
     Eigen::MatrixXd Wprox;
     Eigen::VectorXd bprox, Pcentre, proxBest;
     // The cone fixed point's buffers, made when it first runs.
-    std::shared_ptr<ConeFixedPointWorkspace> cone;
+    std::shared_ptr<ConeFixedPointBuffers> cone;
     // NSGS: the local solver's sticking factor per row (a frictional block's first).
     std::vector<LocalFactorCache> localFactor;
   };
 
  private:
-  Workspace ws_;
+  Buffers buffers_;
 };
 
 // The exact local problem of one frictional contact:

@@ -43,7 +43,7 @@ struct State {
   // Per joint, its coordinate followed continuously from the start: a revolute
   // joint's angle is unwrapped across steps (it passes +-pi as it turns, 10 turns
   // are 20 pi), a prismatic joint's position. Drives, springs and reports use it.
-  std::vector<double> joint_angle;
+  std::vector<double> joint_position;
   // Adaptive step control (Settings::step_control): the length the next step
   // tries (0: none yet, dt), and the error estimate of the last step kept (the
   // PI controller's memory; 0: none).
@@ -246,7 +246,7 @@ class Simulator {
   double clearanceEccentricity(int cj) const;
   double clearanceEccentricityAngle(int cj) const;
   double clearanceNormalForce(int cj) const;
-  // Joint coordinate, continuous across turns (State::joint_angle): rad, or m
+  // Joint coordinate, continuous across turns (State::joint_position): rad, or m
   // for a prismatic joint.
   double jointPosition(int joint) const;
   double jointVelocity(int joint) const;  // rad/s or m/s
@@ -271,8 +271,8 @@ class Simulator {
   ProblemObserver observer_;
   // Step halving (Settings::max_step_halvings): per level, the command at the end
   // of the interval being halved; the outputs of the substeps, accumulated.
-  std::vector<std::vector<double>> refine_commands_;
-  std::unique_ptr<StepOutputs> refine_out_;
+  std::vector<std::vector<double>> halving_commands_;
+  std::unique_ptr<StepOutputs> halving_out_;
   // Adaptive step control (adaptive_step.hpp): its buffers, and the step planStep
   // planned (planned_h_ 0: none; planned_end_ NaN: not cut at an end time).
   std::unique_ptr<AdaptiveStepWorkspace> adaptive_;

@@ -63,7 +63,7 @@ py::tuple pickleState(const nscd::State& s) {
   for (size_t i = 0; i < s.warm_valid.size(); ++i) valid.mutable_data()[i] = s.warm_valid[i] ? 1 : 0;
   return py::make_tuple(kPickleVersion, s.t, bodyArray(s), vectorArray(s.commands),
                         vectorArray(s.prev_commands), warm, valid, vectorArray(s.warm_bilateral),
-                        vectorArray(s.ring_hint), vectorArray(s.joint_angle), s.step_next, s.step_error);
+                        vectorArray(s.ring_hint), vectorArray(s.joint_position), s.step_next, s.step_error);
 }
 
 nscd::State unpickleState(const py::tuple& t) {
@@ -93,7 +93,7 @@ nscd::State unpickleState(const py::tuple& t) {
   for (size_t i = 0; i < valid.size(); ++i) s.warm_valid[i] = valid[i] != 0;
   s.warm_bilateral = toVector(t[7], "warm_bilateral");
   s.ring_hint = toVector(t[8], "ring_hint");
-  s.joint_angle = toVector(t[9], "joint_angle");
+  s.joint_position = toVector(t[9], "joint_position");
   if (version == 2) {
     s.step_next = py::cast<double>(t[10]);
     s.step_error = py::cast<double>(t[11]);
@@ -122,7 +122,7 @@ bool sameState(const nscd::State& a, const nscd::State& b) {
     if (std::memcmp(a.warm[i].data(), b.warm[i].data(), 3 * sizeof(double))) return false;
   return sameBits(a.commands, b.commands) && sameBits(a.prev_commands, b.prev_commands) &&
          sameBits(a.warm_bilateral, b.warm_bilateral) && sameBits(a.ring_hint, b.ring_hint) &&
-         sameBits(a.joint_angle, b.joint_angle) &&
+         sameBits(a.joint_position, b.joint_position) &&
          std::memcmp(&a.step_next, &b.step_next, sizeof(double)) == 0 &&
          std::memcmp(&a.step_error, &b.step_error, sizeof(double)) == 0;
 }
@@ -141,7 +141,7 @@ void bindState(py::module_& m) {
           "vx vy vz (world), wx wy wz (angular velocity, BODY frame)")
       .def_property_readonly("commands", [](const nscd::State& s) { return vectorArray(s.commands); },
                              "actuator commands")
-      .def_property_readonly("joint_angle", [](const nscd::State& s) { return vectorArray(s.joint_angle); },
+      .def_property_readonly("joint_position", [](const nscd::State& s) { return vectorArray(s.joint_position); },
                              "per joint (every joint, fixed ones too), the coordinate followed across turns")
       .def_readonly("step_next", &nscd::State::step_next,
                     "adaptive step control: the length the next step tries, s (0: none yet)")

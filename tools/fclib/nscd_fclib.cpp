@@ -483,7 +483,7 @@ int main(int argc, char** argv) {
         rep = solver.solve(W, b, blocks, opt, P);
         return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
       }, min_ms);
-      r.iterations = rep.iterations;
+      r.iterations = rep.iteration_sum;
       r.err_ours = nscd::solverError(W, b, P, blocks);
       r.converged = rep.converged;
       r.err_siconos = siconosMeasure(r.err_ours, qn);

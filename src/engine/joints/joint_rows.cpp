@@ -91,11 +91,11 @@ double jointCoordinateNear(const Joint& j, const BodyState& a, const BodyState& 
 double jointPosition(const Model& m, const State& s, int joint) {
   const Joint& j = m.joints[joint];
   return jointCoordinateNear(j, bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b),
-                             s.joint_angle[joint]);
+                             s.joint_position[joint]);
 }
 
-void trackJointAngles(const Model& m, State& s) {
-  for (size_t j = 0; j < m.joints.size(); ++j) s.joint_angle[j] = jointPosition(m, s, static_cast<int>(j));
+void trackJointPositions(const Model& m, State& s) {
+  for (size_t j = 0; j < m.joints.size(); ++j) s.joint_position[j] = jointPosition(m, s, static_cast<int>(j));
 }
 
 double jointVelocity(const Model& m, const State& s, int joint) {

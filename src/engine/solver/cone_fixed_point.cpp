@@ -19,9 +19,9 @@
 
 namespace nscd {
 
-struct ConeFixedPointWorkspace {
+struct ConeFixedPointBuffers {
   int maxRows = 0;
-  ConeQpWorkspace qp;
+  ConeQpBuffers qp;
   Eigen::MatrixXd Q;                     // D^-1 W D^-1
   Eigen::VectorXd D, q, y, s, Pbest, Pkeep;
   std::vector<ConeBlock> blocks;
@@ -35,24 +35,24 @@ constexpr int kConeMaxRows = 150;   // a dense LU per interior-point iteration
 constexpr int kFixedPointSteps = 40;
 constexpr NewtonBudget kNewtonFromCone{500, 150, 1e-8};  // as the long last-resort Newton
 
-ConeFixedPointWorkspace& workspace(SolverWorkspace& ws, int m) {
-  if (!ws.cone) ws.cone = std::make_shared<ConeFixedPointWorkspace>();
-  ConeFixedPointWorkspace& cw = *ws.cone;
-  if (m > cw.maxRows) {
-    cw.maxRows = m;
-    cw.Q.resize(m, m);
-    for (Eigen::VectorXd* v : {&cw.D, &cw.q, &cw.y, &cw.s, &cw.Pbest, &cw.Pkeep}) v->resize(m);
-    cw.blocks.reserve(m);
+ConeFixedPointBuffers& coneBuffers(SolverBuffers& buf, int m) {
+  if (!buf.cone) buf.cone = std::make_shared<ConeFixedPointBuffers>();
+  ConeFixedPointBuffers& cone = *buf.cone;
+  if (m > cone.maxRows) {
+    cone.maxRows = m;
+    cone.Q.resize(m, m);
+    for (Eigen::VectorXd* v : {&cone.D, &cone.q, &cone.y, &cone.s, &cone.Pbest, &cone.Pkeep}) v->resize(m);
+    cone.blocks.reserve(m);
   }
-  return cw;
+  return cone;
 }
 
 // The cone problem's blocks and its scaled Q = D^-1 W D^-1 (D: mu on the normal rows).
-void scaleToCones(const SolveProblem& pr, ConeFixedPointWorkspace& cw) {
+void scaleToCones(const SolveProblem& pr, ConeFixedPointBuffers& cone) {
   const int m = pr.m;
-  auto D = cw.D.head(m);
+  auto D = cone.D.head(m);
   D.setOnes();
-  cw.blocks.clear();
+  cone.blocks.clear();
   for (const ProblemBlock& bl : pr.blocks) {
     ConeBlock c;
     c.row = bl.row;
@@ -63,32 +63,32 @@ void scaleToCones(const SolveProblem& pr, ConeFixedPointWorkspace& cw) {
     } else {
       c.kind = bl.kind == BlockKind::Frictionless ? ConeBlock::HalfLine : ConeBlock::Free;
     }
-    cw.blocks.push_back(c);
+    cone.blocks.push_back(c);
   }
-  auto Q = cw.Q.topLeftCorner(m, m);
+  auto Q = cone.Q.topLeftCorner(m, m);
   for (int j = 0; j < m; ++j)
     for (int i = 0; i < m; ++i) Q(i, j) = pr.Wm(i, j) / (D(i) * D(j));
 }
 
-// The fixed point from s = 0: the best iterate into cw.Pbest; its error (INFINITY if none).
-double fixedPoint(const SolveProblem& pr, ConeFixedPointWorkspace& cw, Iterate& it, SolverReport& rep) {
+// The fixed point from s = 0: the best iterate into cone.Pbest; its error (INFINITY if none).
+double fixedPoint(const SolveProblem& pr, ConeFixedPointBuffers& cone, Iterate& it, SolverReport& rep) {
   const int m = pr.m;
-  auto D = cw.D.head(m);
-  auto s = cw.s.head(m);
+  auto D = cone.D.head(m);
+  auto s = cone.s.head(m);
   s.setZero();
   double bestErr = INFINITY;
   for (int k = 0; k < kFixedPointSteps; ++k) {
-    cw.q.head(m) = (pr.b.head(m) + s).cwiseQuotient(D);
-    const ConeQpReport qr = solveConeQp(cw.Q.topLeftCorner(m, m), cw.q.head(m), cw.blocks, m, cw.qp, cw.y.head(m));
+    cone.q.head(m) = (pr.b.head(m) + s).cwiseQuotient(D);
+    const ConeQpReport qr = solveConeQp(cone.Q.topLeftCorner(m, m), cone.q.head(m), cone.blocks, m, cone.qp, cone.y.head(m));
     rep.interior_point_iterations += qr.iterations;
-    it.P.head(m) = cw.y.head(m).cwiseQuotient(D);
+    it.P.head(m) = cone.y.head(m).cwiseQuotient(D);
     it.U.noalias() = pr.Wm * it.P.head(m);
     it.U += pr.b.head(m);
     const double e = errorFromU(pr.blocks, it.P.data(), it.U.data(), pr.bnorm);
     if (!std::isfinite(e)) break;
     if (e < bestErr) {
       bestErr = e;
-      cw.Pbest.head(m) = it.P.head(m);
+      cone.Pbest.head(m) = it.P.head(m);
     }
     if (e <= pr.tolerance) break;
     for (const ProblemBlock& bl : pr.blocks)
@@ -103,7 +103,7 @@ bool coneFixedPointApplies(const SolveRun& run) {
   const SolveProblem& pr = run.problem;
   if (pr.m > kConeMaxRows) return false;
   for (int i = 0; i < pr.m; ++i)
-    if (pr.ws.zeroRow[i]) return false;
+    if (pr.buf.zeroRow[i]) return false;
   for (const ProblemBlock& bl : pr.blocks)
     if (bl.kind == BlockKind::Frictional && !(bl.mu > 0)) return false;
   return true;
@@ -113,13 +113,13 @@ bool runConeFixedPoint(SolveRun& run) {
   const SolveProblem& pr = run.problem;
   const int m = pr.m;
   Iterate& it = run.it;
-  ConeFixedPointWorkspace& cw = workspace(pr.ws, m);
-  cw.Pkeep.head(m) = it.P.head(m);
+  ConeFixedPointBuffers& cone = coneBuffers(pr.buf, m);
+  cone.Pkeep.head(m) = it.P.head(m);
   const double errBefore = it.err;
-  scaleToCones(pr, cw);
-  double bestErr = fixedPoint(pr, cw, it, run.rep);
+  scaleToCones(pr, cone);
+  double bestErr = fixedPoint(pr, cone, it, run.rep);
   if (std::isfinite(bestErr)) {
-    it.P.head(m) = cw.Pbest.head(m);
+    it.P.head(m) = cone.Pbest.head(m);
     restartIterate(pr, it);
     if (it.err <= pr.tolerance) return true;
     // The Newton from here, on a budget of its own.
@@ -129,11 +129,11 @@ bool runConeFixedPoint(SolveRun& run) {
     if (r.converged) return true;
     if (it.err < bestErr) {
       bestErr = it.err;
-      cw.Pbest.head(m) = it.P.head(m);
+      cone.Pbest.head(m) = it.P.head(m);
     }
   }
   // Failed: the best answer it found if better than the one it started from.
-  it.P.head(m) = bestErr < errBefore ? cw.Pbest.head(m) : cw.Pkeep.head(m);
+  it.P.head(m) = bestErr < errBefore ? cone.Pbest.head(m) : cone.Pkeep.head(m);
   restartIterate(pr, it);
   return false;
 }

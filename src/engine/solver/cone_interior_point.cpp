@@ -28,9 +28,9 @@ constexpr double kRegularisation = 1e-13;  // added to the scaled system's diago
 // Tikhonov term added to the scaled Q: the problem's optimal set is unbounded when
 // a direction of zero curvature stays inside the cones (a hyperstatic set squeezed
 // by opposed contacts), and the interior-point iterates then run off along it
-// towards its analytic centre: on the C-60 trip at dt 1e-4 one step's contact
-// forces summed to 1.2e6 N instead of 4.4e3 N. With it the answer is the
-// problem's nearest to y = 0, bounded, the squeeze left out.
+// towards its analytic centre, with contact forces orders of magnitude above the
+// load (docs/solver.md). With it the answer is the problem's nearest to y = 0,
+// bounded, the squeeze left out.
 constexpr double kTikhonov = 1e-8;
 
 double lorentzDet(const double* u) { return u[0] * u[0] - u[1] * u[1] - u[2] * u[2]; }
@@ -107,60 +107,60 @@ double stepToBoundary(int size, const double* u, const double* d) {
   return t;
 }
 
-void grow(ConeQpWorkspace& ws, int n, int cones) {
-  if (n > ws.maxRows) {
-    ws.maxRows = n;
-    ws.Qs.resize(n, n);
-    ws.K.resize(n, n);
-    for (Eigen::VectorXd* v : {&ws.qs, &ws.y, &ws.z, &ws.rd, &ws.lam, &ws.dvec, &ws.rhs, &ws.dy, &ws.dz,
-                               &ws.dya, &ws.dza, &ws.rc, &ws.ylast, &ws.zlast})
+void grow(ConeQpBuffers& qp, int n, int cones) {
+  if (n > qp.maxRows) {
+    qp.maxRows = n;
+    qp.Qs.resize(n, n);
+    qp.K.resize(n, n);
+    for (Eigen::VectorXd* v : {&qp.qs, &qp.y, &qp.z, &qp.rd, &qp.lam, &qp.dvec, &qp.rhs, &qp.dy, &qp.dz,
+                               &qp.dya, &qp.dza, &qp.rc, &qp.ylast, &qp.zlast})
       v->resize(n);
-    ws.piv.resize(n);
+    qp.piv.resize(n);
   }
-  if (int(ws.W.size()) < cones) {
-    ws.W.resize(cones);
-    ws.Winv.resize(cones);
+  if (int(qp.W.size()) < cones) {
+    qp.W.resize(cones);
+    qp.Winv.resize(cones);
   }
 }
 
-// One solve's views of the workspace: the scaled problem (Qs, qs), the iterate
+// One solve's views of the buffers: the scaled problem (Qs, qs), the iterate
 // (y, z), the residual and the buffers of the Newton system.
 struct Ipm {
-  Ipm(ConeQpWorkspace& ws_, const std::vector<ConeBlock>& blocks_, int n_)
-      : ws(ws_), blocks(blocks_), n(n_), ld(int(ws_.K.rows())), Qs(ws_.Qs.topLeftCorner(n_, n_)),
-        qs(ws_.qs.head(n_)), y(ws_.y.head(n_)), z(ws_.z.head(n_)), rd(ws_.rd.head(n_)),
-        lam(ws_.lam.head(n_)), dvec(ws_.dvec.head(n_)), rhs(ws_.rhs.head(n_)), rc(ws_.rc.head(n_)) {}
-  ConeQpWorkspace& ws;
+  Ipm(ConeQpBuffers& qp_, const std::vector<ConeBlock>& blocks_, int n_)
+      : qp(qp_), blocks(blocks_), n(n_), ld(int(qp_.K.rows())), Qs(qp_.Qs.topLeftCorner(n_, n_)),
+        qs(qp_.qs.head(n_)), y(qp_.y.head(n_)), z(qp_.z.head(n_)), rd(qp_.rd.head(n_)),
+        lam(qp_.lam.head(n_)), dvec(qp_.dvec.head(n_)), rhs(qp_.rhs.head(n_)), rc(qp_.rc.head(n_)) {}
+  ConeQpBuffers& qp;
   const std::vector<ConeBlock>& blocks;
   const int n, ld;
   Eigen::Block<Eigen::MatrixXd> Qs;
   Eigen::VectorBlock<Eigen::VectorXd> qs, y, z, rd, lam, dvec, rhs, rc;
 
   // The Nesterov-Todd scaling at (y, z), lambda, and the system Q + W^-2
-  // factored in ws.K. False if an iterate left its cone or the LU failed.
+  // factored in qp.K. False if an iterate left its cone or the LU failed.
   bool scaleAndFactor() {
-    auto K = ws.K.topLeftCorner(n, n);
+    auto K = qp.K.topLeftCorner(n, n);
     K = Qs;
     bool ok = true;
     for (size_t k = 0; k < blocks.size() && ok; ++k) {
       const ConeBlock& bl = blocks[k];
       if (bl.kind == ConeBlock::Free) continue;
       if (bl.size == 3) {
-        ok = scaling3(y.data() + bl.row, z.data() + bl.row, ws.W[k], ws.Winv[k]);
-        lam.segment<3>(bl.row) = ws.W[k] * z.segment<3>(bl.row);
-        K.block<3, 3>(bl.row, bl.row) += ws.Winv[k] * ws.Winv[k];
+        ok = scaling3(y.data() + bl.row, z.data() + bl.row, qp.W[k], qp.Winv[k]);
+        lam.segment<3>(bl.row) = qp.W[k] * z.segment<3>(bl.row);
+        K.block<3, 3>(bl.row, bl.row) += qp.Winv[k] * qp.Winv[k];
       } else {
         ok = y(bl.row) > 0 && z(bl.row) > 0;
         const double w = std::sqrt(y(bl.row) / z(bl.row));
-        ws.W[k](0, 0) = w;
-        ws.Winv[k](0, 0) = 1 / w;
+        qp.W[k](0, 0) = w;
+        qp.Winv[k](0, 0) = 1 / w;
         lam(bl.row) = std::sqrt(y(bl.row) * z(bl.row));
         K(bl.row, bl.row) += 1 / (w * w);
       }
     }
     if (!ok) return false;
     K.diagonal().array() += kRegularisation;
-    return luFactor(ws.K.data(), ld, n, ws.piv.data());
+    return luFactor(qp.K.data(), ld, n, qp.piv.data());
   }
 
   // One Newton direction for the complementarity right-hand side rc.
@@ -170,19 +170,19 @@ struct Ipm {
       const ConeBlock& bl = blocks[k];
       if (bl.kind == ConeBlock::Free) continue;
       jordanSolve(bl.size, lam.data() + bl.row, rc.data() + bl.row, dvec.data() + bl.row);
-      if (bl.size == 3) rhs.segment<3>(bl.row) += ws.Winv[k] * dvec.segment<3>(bl.row);
-      else rhs(bl.row) += ws.Winv[k](0, 0) * dvec(bl.row);
+      if (bl.size == 3) rhs.segment<3>(bl.row) += qp.Winv[k] * dvec.segment<3>(bl.row);
+      else rhs(bl.row) += qp.Winv[k](0, 0) * dvec(bl.row);
     }
     dy.head(n) = rhs;
-    luSolve(ws.K.data(), ld, n, ws.piv.data(), dy.data());
+    luSolve(qp.K.data(), ld, n, qp.piv.data(), dy.data());
     for (size_t k = 0; k < blocks.size(); ++k) {
       const ConeBlock& bl = blocks[k];
       if (bl.kind == ConeBlock::Free) {
         dz.segment(bl.row, bl.size).setZero();
       } else if (bl.size == 3) {
-        dz.segment<3>(bl.row) = ws.Winv[k] * (dvec.segment<3>(bl.row) - ws.Winv[k] * dy.segment<3>(bl.row));
+        dz.segment<3>(bl.row) = qp.Winv[k] * (dvec.segment<3>(bl.row) - qp.Winv[k] * dy.segment<3>(bl.row));
       } else {
-        const double wi = ws.Winv[k](0, 0);
+        const double wi = qp.Winv[k](0, 0);
         dz(bl.row) = wi * (dvec(bl.row) - wi * dy(bl.row));
       }
     }
@@ -215,12 +215,12 @@ struct Ipm {
       if (bl.kind == ConeBlock::Free) continue;
       double a[3] = {0, 0, 0}, c[3] = {0, 0, 0}, prod[3];
       if (bl.size == 3) {
-        const Vector3d wa = ws.Winv[k] * ws.dya.segment<3>(bl.row);
-        const Vector3d wc = ws.W[k] * ws.dza.segment<3>(bl.row);
+        const Vector3d wa = qp.Winv[k] * qp.dya.segment<3>(bl.row);
+        const Vector3d wc = qp.W[k] * qp.dza.segment<3>(bl.row);
         for (int i = 0; i < 3; ++i) a[i] = wa(i), c[i] = wc(i);
       } else {
-        a[0] = ws.Winv[k](0, 0) * ws.dya(bl.row);
-        c[0] = ws.W[k](0, 0) * ws.dza(bl.row);
+        a[0] = qp.Winv[k](0, 0) * qp.dya(bl.row);
+        c[0] = qp.W[k](0, 0) * qp.dza(bl.row);
       }
       jordanProduct(bl.size, lam.data() + bl.row, lam.data() + bl.row, rc.data() + bl.row);
       jordanProduct(bl.size, a, c, prod);
@@ -234,12 +234,12 @@ struct Ipm {
 
 ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
                          const Eigen::Ref<const Eigen::VectorXd>& q,
-                         const std::vector<ConeBlock>& blocks, int n, ConeQpWorkspace& ws,
+                         const std::vector<ConeBlock>& blocks, int n, ConeQpBuffers& qp,
                          Eigen::Ref<Eigen::VectorXd> yOut) {
   ConeQpReport rep;
   int cones = 0;
   for (const ConeBlock& bl : blocks) cones += bl.kind != ConeBlock::Free;
-  grow(ws, n, int(blocks.size()));
+  grow(qp, n, int(blocks.size()));
   // Scaled to a unit largest diagonal of Q and a unit largest |q_i|.
   double qScale = q.head(n).cwiseAbs().maxCoeff();
   double qDiag = Q.topLeftCorner(n, n).diagonal().cwiseAbs().maxCoeff();
@@ -248,7 +248,7 @@ ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
     rep.converged = qScale == 0;
     return rep;
   }
-  Ipm s(ws, blocks, n);
+  Ipm s(qp, blocks, n);
   s.Qs = Q.topLeftCorner(n, n) / qDiag;
   s.Qs.diagonal().array() += kTikhonov;
   s.qs = q.head(n) / qScale;
@@ -257,16 +257,16 @@ ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
   s.z.setZero();
   for (const ConeBlock& bl : blocks)
     if (bl.kind != ConeBlock::Free) s.y(bl.row) = s.z(bl.row) = 1;  // the cone's identity e
-  ws.ylast.head(n) = s.y;
+  qp.ylast.head(n) = s.y;
   for (int it = 0; it < kMaxIterations; ++it) {
     s.rd.noalias() = s.Qs * s.y;
     s.rd += s.qs - s.z;  // z stays 0 on free rows: they carry no dual variable
     const double gap = cones > 0 ? s.y.dot(s.z) / cones : 0;
     if (!(std::isfinite(gap) && s.rd.allFinite())) {
-      s.y = ws.ylast.head(n);
+      s.y = qp.ylast.head(n);
       break;
     }
-    ws.ylast.head(n) = s.y;
+    qp.ylast.head(n) = s.y;
     rep.iterations = it;
     if (s.rd.norm() <= kResidualTol * (1 + qsNorm) && gap <= kGapTol * (1 + std::abs(s.y.dot(s.qs)))) {
       rep.converged = true;
@@ -274,16 +274,16 @@ ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
     }
     if (!s.scaleAndFactor()) break;
     s.predictorRhs();
-    s.direction(ws.dya, ws.dza);
-    const double ta = std::min(1.0, s.maxStep(ws.dya, ws.dza));
-    const double gapAffine = (s.y + ta * ws.dya.head(n)).dot(s.z + ta * ws.dza.head(n)) / std::max(1, cones);
+    s.direction(qp.dya, qp.dza);
+    const double ta = std::min(1.0, s.maxStep(qp.dya, qp.dza));
+    const double gapAffine = (s.y + ta * qp.dya.head(n)).dot(s.z + ta * qp.dza.head(n)) / std::max(1, cones);
     const double sigma = std::pow(std::max(0.0, gapAffine) / std::max(gap, 1e-300), 3);  // Mehrotra
     s.correctorRhs(sigma * gap);
-    s.direction(ws.dy, ws.dz);
-    const double t = std::min(1.0, kStepFraction * s.maxStep(ws.dy, ws.dz));
-    if (!(t > 0) || !ws.dy.head(n).allFinite() || !ws.dz.head(n).allFinite()) break;
-    s.y += t * ws.dy.head(n);
-    s.z += t * ws.dz.head(n);
+    s.direction(qp.dy, qp.dz);
+    const double t = std::min(1.0, kStepFraction * s.maxStep(qp.dy, qp.dz));
+    if (!(t > 0) || !qp.dy.head(n).allFinite() || !qp.dz.head(n).allFinite()) break;
+    s.y += t * qp.dy.head(n);
+    s.z += t * qp.dz.head(n);
     rep.iterations = it + 1;
   }
   yOut.head(n) = s.y * (qScale / qDiag);

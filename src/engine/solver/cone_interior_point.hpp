@@ -22,7 +22,7 @@ struct ConeBlock {
 };
 
 // Buffers, grown to the largest problem seen, never shrunk.
-struct ConeQpWorkspace {
+struct ConeQpBuffers {
   int maxRows = 0;
   Eigen::MatrixXd Qs, K;  // the scaled Q; the Newton system, LU in place
   Eigen::VectorXd qs, y, z, rd, lam, dvec, rhs, dy, dz, dya, dza, rc, ylast, zlast;
@@ -43,7 +43,7 @@ struct ConeQpReport {
 // A non-finite iterate or a failed factorisation ends it at the last good iterate.
 ConeQpReport solveConeQp(const Eigen::Ref<const Eigen::MatrixXd>& Q,
                          const Eigen::Ref<const Eigen::VectorXd>& q,
-                         const std::vector<ConeBlock>& blocks, int n, ConeQpWorkspace& ws,
+                         const std::vector<ConeBlock>& blocks, int n, ConeQpBuffers& qp,
                          Eigen::Ref<Eigen::VectorXd> y);
 
 }  // namespace nscd

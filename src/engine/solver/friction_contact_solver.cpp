@@ -81,7 +81,7 @@ bool solveSingleContact(const Eigen::Ref<const Eigen::MatrixXd>& W,
   rep.residual = err;
   rep.converged = true;
   rep.sweeps = 1;
-  rep.iterations = 1;
+  rep.iteration_sum = 1;
   rep.stage = SolverStage::LocalSolver;
   return true;
 }
@@ -101,40 +101,40 @@ bool finiteProblem(const Eigen::Ref<const Eigen::MatrixXd>& W,
 }
 
 // The buffers grow to the largest problem seen, never shrink.
-void growWorkspace(FrictionContactSolver::Workspace& ws, int m, bool newtonAllowed) {
-  if (m > ws.maxRows) {
-    ws.maxRows = m;
-    ws.U.resize(m);
-    ws.Pbest.resize(m);
-    ws.Pstart.resize(m);
-    ws.Pinitial.resize(m);
-    ws.phi.resize(m);
-    ws.d.resize(m);
-    ws.Wd.resize(m);
-    ws.Pt.resize(m);
-    ws.Ut.resize(m);
-    ws.phiT.resize(m);
-    ws.rho.resize(m);
-    ws.piv.resize(m);
-    ws.zeroRow.resize(m);
-    ws.localFactor.resize(m);
-    ws.eqRows.reserve(m);
+void growBuffers(FrictionContactSolver::Buffers& buf, int m, bool newtonAllowed) {
+  if (m > buf.maxRows) {
+    buf.maxRows = m;
+    buf.U.resize(m);
+    buf.Pbest.resize(m);
+    buf.Pstart.resize(m);
+    buf.Pinitial.resize(m);
+    buf.phi.resize(m);
+    buf.d.resize(m);
+    buf.Wd.resize(m);
+    buf.Pt.resize(m);
+    buf.Ut.resize(m);
+    buf.phiT.resize(m);
+    buf.rho.resize(m);
+    buf.piv.resize(m);
+    buf.zeroRow.resize(m);
+    buf.localFactor.resize(m);
+    buf.eqRows.reserve(m);
   }
-  if (newtonAllowed && ws.J.rows() < m) {  // not for NSGS only; capped at the Newton size
-    const int cap = std::min(ws.maxRows, kNewtonMaxRows);
-    ws.J.resize(cap, cap);
-    ws.Wprox.resize(cap, cap);
-    ws.bprox.resize(cap);
-    ws.Pcentre.resize(cap);
-    ws.Ptrial.resize(cap);
-    ws.proxBest.resize(cap);
+  if (newtonAllowed && buf.J.rows() < m) {  // not for NSGS only; capped at the Newton size
+    const int cap = std::min(buf.maxRows, kNewtonMaxRows);
+    buf.J.resize(cap, cap);
+    buf.Wprox.resize(cap, cap);
+    buf.bprox.resize(cap);
+    buf.Pcentre.resize(cap);
+    buf.Ptrial.resize(cap);
+    buf.proxBest.resize(cap);
   }
 }
 
 // The report; if not converged, the best iterate and its error on the exact U.
 void finishRun(SolveRun& run, bool ok) {
   SolverReport& rep = run.rep;
-  rep.iterations = rep.sweeps + rep.newton_iterations + rep.interior_point_iterations;
+  rep.iteration_sum = rep.sweeps + rep.newton_iterations + rep.interior_point_iterations;
   if (!ok) {
     rep.residual = INFINITY;
     rep.stage = SolverStage::Failed;
@@ -205,14 +205,14 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   double maxDiag = 0;
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
   if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
-  growWorkspace(ws_, m, scheduleUsesNewton(options.method, m));
+  growBuffers(buffers_, m, scheduleUsesNewton(options.method, m));
 
-  SolveRun run(W, b, blocks, options, P, ws_, m);
+  SolveRun run(W, b, blocks, options, P, buffers_, m);
   prepareProblem(run.problem, maxDiag);
   restartIterate(run.problem, run.it);
   run.best.adopt(run.it);
   run.nsgs = NsgsState::fresh(run.it.err);
-  ws_.Pinitial.head(m) = P.head(m);
+  buffers_.Pinitial.head(m) = P.head(m);
   if (run.it.err <= options.tolerance) {
     run.rep.residual = run.it.err;
     run.rep.converged = true;

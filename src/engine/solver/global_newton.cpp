@@ -26,7 +26,7 @@ constexpr double kNewtonMaxImpulse = 1e3;  // iterates bounded by this * impulse
 // Alart-Curnier residual decreases towards infinity along near-null directions
 // of W, with impulses that change nothing but round-off.
 double impulseCap(const SolveProblem& pr, const Iterate& it) {
-  const char* zeroRow = pr.ws.zeroRow.data();
+  const char* zeroRow = pr.buf.zeroRow.data();
   double impulseScale = it.P.head(pr.m).cwiseAbs().maxCoeff();
   for (int i = 0; i < pr.m; ++i)
     if (!zeroRow[i]) impulseScale = std::max(impulseScale, std::abs(pr.b(i)) / pr.W(i, i));
@@ -34,27 +34,27 @@ double impulseCap(const SolveProblem& pr, const Iterate& it) {
 }
 
 // The Newton direction d (J d = -phi, J factored in place) and the
-// non-monotone Armijo search along it: true with ws.Pt, ws.Ut at step t if a
+// non-monotone Armijo search along it: true with buf.Pt, buf.Ut at step t if a
 // step was accepted. f: the merit at P; fref: the largest of the history.
 bool newtonStep(const SolveProblem& pr, const Iterate& it, double delta, double f, double fref,
                 double cap, double& t) {
-  SolverWorkspace& ws = pr.ws;
+  SolverBuffers& buf = pr.buf;
   const int m = pr.m;
-  const int ld = int(ws.J.rows());
-  acJacobian(pr.W, pr.blocks, it.P.data(), it.U.data(), ws.rho.data(), ws.zeroRow.data(), delta,
-             ws.J.topLeftCorner(m, m));
+  const int ld = int(buf.J.rows());
+  acJacobian(pr.W, pr.blocks, it.P.data(), it.U.data(), buf.rho.data(), buf.zeroRow.data(), delta,
+             buf.J.topLeftCorner(m, m));
   t = 1;
-  if (!luFactor(ws.J.data(), ld, m, ws.piv.data())) return false;
-  ws.d.head(m) = -ws.phi.head(m);
-  luSolve(ws.J.data(), ld, m, ws.piv.data(), ws.d.data());
-  if (!ws.d.head(m).allFinite()) return false;
-  ws.Wd.head(m).noalias() = pr.Wm * ws.d.head(m);
+  if (!luFactor(buf.J.data(), ld, m, buf.piv.data())) return false;
+  buf.d.head(m) = -buf.phi.head(m);
+  luSolve(buf.J.data(), ld, m, buf.piv.data(), buf.d.data());
+  if (!buf.d.head(m).allFinite()) return false;
+  buf.Wd.head(m).noalias() = pr.Wm * buf.d.head(m);
   for (int ls = 0; ls < kLineSearchSteps; ++ls, t *= 0.5) {
-    ws.Pt.head(m) = it.P.head(m) + t * ws.d.head(m);
-    if (ws.Pt.head(m).cwiseAbs().maxCoeff() > cap) continue;
-    ws.Ut.head(m) = it.U + t * ws.Wd.head(m);
-    const double ft = acResidual(pr.blocks, ws.Pt.data(), ws.Ut.data(), ws.rho.data(), ws.zeroRow.data(),
-                                 ws.phiT.data());
+    buf.Pt.head(m) = it.P.head(m) + t * buf.d.head(m);
+    if (buf.Pt.head(m).cwiseAbs().maxCoeff() > cap) continue;
+    buf.Ut.head(m) = it.U + t * buf.Wd.head(m);
+    const double ft = acResidual(pr.blocks, buf.Pt.data(), buf.Ut.data(), buf.rho.data(), buf.zeroRow.data(),
+                                 buf.phiT.data());
     if (ft <= fref - 2e-4 * t * f) return true;
   }
   return false;
@@ -63,12 +63,12 @@ bool newtonStep(const SolveProblem& pr, const Iterate& it, double delta, double 
 }  // namespace
 
 NewtonResult runNewton(const SolveProblem& pr, Iterate& it, const NewtonBudget& budget) {
-  SolverWorkspace& ws = pr.ws;
+  SolverBuffers& buf = pr.buf;
   const int m = pr.m;
   NewtonResult res;
   it.U.noalias() = pr.Wm * it.P.head(m);
   it.U += pr.b.head(m);
-  double f = acResidual(pr.blocks, it.P.data(), it.U.data(), ws.rho.data(), ws.zeroRow.data(), ws.phi.data());
+  double f = acResidual(pr.blocks, it.P.data(), it.U.data(), buf.rho.data(), buf.zeroRow.data(), buf.phi.data());
   double hist[kNonMonotone];
   for (double& h : hist) h = f;
   double delta = budget.delta0;
@@ -88,10 +88,10 @@ NewtonResult runNewton(const SolveProblem& pr, Iterate& it, const NewtonBudget& 
     // A short step means a poor model (kink, near-singular J): regularise
     // more (Levenberg-like); a full step lets delta relax back.
     delta = t < kNewtonShortStep ? std::min(kNewtonDeltaMax, 1e3 * delta) : std::max(budget.delta0, 1e-2 * delta);
-    it.P.head(m) = ws.Pt.head(m);
+    it.P.head(m) = buf.Pt.head(m);
     it.U.noalias() = pr.Wm * it.P.head(m);
     it.U += pr.b.head(m);
-    f = acResidual(pr.blocks, it.P.data(), it.U.data(), ws.rho.data(), ws.zeroRow.data(), ws.phi.data());
+    f = acResidual(pr.blocks, it.P.data(), it.U.data(), buf.rho.data(), buf.zeroRow.data(), buf.phi.data());
     for (int h = kNonMonotone - 1; h > 0; --h) hist[h] = hist[h - 1];
     hist[0] = f;
     it.err = errorFromU(pr.blocks, it.P.data(), it.U.data(), pr.bnorm);

@@ -41,9 +41,10 @@ constexpr int kFixedPointIterations = 300;
 // lower triangle, the updates (a single product subtracted as Eigen's runtime inner
 // product adds -1 times it), the division by the pivot; then P b, the unit-lower
 // solve, D's pseudo-inverse (|d| > DBL_MIN, else 0), the unit-upper solve, P^T.
-// Without its set-up (L1 norm, sign, workspace): the same bits (checked against
-// Eigen on 2.8e6 random 3 x 3 matrices with ties, zero, negative, denormal and NaN
-// entries). False where Eigen stops at a zero first pivot (the caller uses Eigen).
+// Without its set-up (L1 norm, sign, workspace): the same bits as Eigen, so the
+// answer does not depend on which of the two factored it (LocalSolver.
+// StickIsEigensLdltBitForBit; docs/solver.md). False where Eigen stops at a zero
+// first pivot (the caller uses Eigen).
 bool ldlt3Factor(const Matrix3d& a, Matrix3d& m, int* t) {
   m = a;
   for (int k = 0; k < 3; ++k) {

@@ -27,15 +27,15 @@ constexpr double kProximalSigma = 0.1;  // proximal weight relative to the block
 // once, from the factor prepareProblem made).
 void solveEqualities(const SolveProblem& pr, Iterate& it) {
   const int ne = pr.ne;
-  const SolverWorkspace& ws = pr.ws;
+  const SolverBuffers& buf = pr.buf;
   if (ne == 0) return;
-  double* x = pr.ws.eqRhs.data();
-  for (int a = 0; a < ne; ++a) x[a] = -it.U(ws.eqRows[a]);
-  pivotedCholeskySolve(ws.eqL.data(), int(ws.eqL.rows()), ne, ws.eqRank, ws.eqPerm.data(), x, x + ne);
+  double* x = pr.buf.eqRhs.data();
+  for (int a = 0; a < ne; ++a) x[a] = -it.U(buf.eqRows[a]);
+  pivotedCholeskySolve(buf.eqL.data(), int(buf.eqL.rows()), ne, buf.eqRank, buf.eqPerm.data(), x, x + ne);
   for (int a = 0; a < ne; ++a) {
     if (x[a] == 0) continue;
-    it.U += x[a] * pr.Wm.col(ws.eqRows[a]);
-    it.P(ws.eqRows[a]) += x[a];
+    it.U += x[a] * pr.Wm.col(buf.eqRows[a]);
+    it.P(buf.eqRows[a]) += x[a];
   }
 }
 
@@ -51,7 +51,7 @@ void sweepFrictional(const SolveProblem& pr, const ProblemBlock& bl, double sigm
     bl3 -= eps * Pold;
   }
   Vector3d Pnew = Pold;
-  solveLocalFrictional(Wl, bl3, bl.mu, pr.localTol, Pnew, nullptr, &pr.ws.localFactor[r]);
+  solveLocalFrictional(Wl, bl3, bl.mu, pr.localTol, Pnew, nullptr, &pr.buf.localFactor[r]);
   const Vector3d dP = Pnew - Pold;
   if (!dP.isZero(0)) {
     it.U.noalias() += pr.Wm.middleCols<3>(r) * dP;

@@ -47,7 +47,7 @@ void writeProblemFile(const std::string& path, const ProblemView& view) {
   std::fprintf(f, "t %.17g round %d rows %d blocks %d\n", view.t, view.round, m,
                int(view.blocks.size()));
   std::fprintf(f, "residual %.17g converged %d iterations %d\n", view.report.residual,
-               view.report.converged ? 1 : 0, view.report.iterations);
+               view.report.converged ? 1 : 0, view.report.iteration_sum);
   for (const ProblemBlock& bl : view.blocks)
     std::fprintf(f, "block %c %d %d %.17g\n", kindLetter(bl.kind), bl.row, bl.size, bl.mu);
   for (int i = 0; i < m; ++i) writeVector(f, "W", view.W.row(i).transpose());

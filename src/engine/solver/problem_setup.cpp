@@ -15,8 +15,8 @@ constexpr double kEqDrop = 1e-11;       // equality pivots below this * max diag
 // Zero rows keep P = 0. The Newton's per-row scaling rho.
 void scaleRows(SolveProblem& pr) {
   const auto& W = pr.W;
-  char* zeroRow = pr.ws.zeroRow.data();
-  double* rho = pr.ws.rho.data();
+  char* zeroRow = pr.buf.zeroRow.data();
+  double* rho = pr.buf.rho.data();
   for (int i = 0; i < pr.m; ++i) zeroRow[i] = !(W(i, i) > pr.zeroDiag);
   for (const ProblemBlock& bl : pr.blocks) {
     const int r = bl.row;
@@ -38,30 +38,30 @@ void scaleRows(SolveProblem& pr) {
 // The equality rows (bilateral, not zero) as one block, factored once.
 void factorEqualities(SolveProblem& pr) {
   const auto& W = pr.W;
-  SolverWorkspace& ws = pr.ws;
-  const char* zeroRow = ws.zeroRow.data();
-  ws.eqRows.clear();
+  SolverBuffers& buf = pr.buf;
+  const char* zeroRow = buf.zeroRow.data();
+  buf.eqRows.clear();
   double maxEqDiag = 0;
   for (const ProblemBlock& bl : pr.blocks) {
     if (bl.kind != BlockKind::Bilateral) continue;
     for (int i = bl.row; i < bl.row + bl.size; ++i) {
       if (zeroRow[i]) continue;
-      ws.eqRows.push_back(i);
+      buf.eqRows.push_back(i);
       maxEqDiag = std::max(maxEqDiag, W(i, i));
     }
   }
-  const int ne = int(ws.eqRows.size());
+  const int ne = int(buf.eqRows.size());
   pr.ne = ne;
-  if (ne > ws.maxEq) {
-    ws.maxEq = ne;
-    ws.eqL.resize(ne, ne);
-    ws.eqRhs.resize(2 * ne);
-    ws.eqPerm.resize(ne);
+  if (ne > buf.maxEq) {
+    buf.maxEq = ne;
+    buf.eqL.resize(ne, ne);
+    buf.eqRhs.resize(2 * ne);
+    buf.eqPerm.resize(ne);
   }
   if (ne > 0) {
     for (int c = 0; c < ne; ++c)
-      for (int r = 0; r < ne; ++r) ws.eqL(r, c) = W(ws.eqRows[r], ws.eqRows[c]);
-    ws.eqRank = pivotedCholesky(ws.eqL.data(), int(ws.eqL.rows()), ne, kEqDrop * maxEqDiag, ws.eqPerm.data());
+      for (int r = 0; r < ne; ++r) buf.eqL(r, c) = W(buf.eqRows[r], buf.eqRows[c]);
+    buf.eqRank = pivotedCholesky(buf.eqL.data(), int(buf.eqL.rows()), ne, kEqDrop * maxEqDiag, buf.eqPerm.data());
   }
 }
 
@@ -83,7 +83,7 @@ void refreshIterate(const SolveProblem& pr, Iterate& it) {
 }
 
 void restartIterate(const SolveProblem& pr, Iterate& it) {
-  const char* zeroRow = pr.ws.zeroRow.data();
+  const char* zeroRow = pr.buf.zeroRow.data();
   for (const ProblemBlock& bl : pr.blocks) {
     if (bl.kind == BlockKind::Frictionless) continue;
     for (int i = bl.row; i < bl.row + bl.size; ++i)

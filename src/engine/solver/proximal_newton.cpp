@@ -58,23 +58,23 @@ double smallestDiagonal(const SolveProblem& pr) {
 // as the shifted problem started from it (P = 0 on its zero rows).
 bool solveShifted(const SolveProblem& pr, double shift, double outerErr, int budget, Iterate& it,
                   int& iterations, Eigen::Ref<Eigen::VectorXd> start) {
-  SolverWorkspace& ws = pr.ws;
+  SolverBuffers& buf = pr.buf;
   const int m = pr.m;
-  auto Wp = ws.Wprox.topLeftCorner(m, m);
+  auto Wp = buf.Wprox.topLeftCorner(m, m);
   Wp = pr.Wm;
   for (int i = 0; i < m; ++i) {
     Wp(i, i) += shift;
-    ws.bprox(i) = pr.b(i) - shift * it.P(i);
+    buf.bprox(i) = pr.b(i) - shift * it.P(i);
   }
   const Eigen::Ref<const Eigen::MatrixXd> Wref(Wp);
-  const Eigen::Ref<const Eigen::VectorXd> bref(ws.bprox.head(m));
+  const Eigen::Ref<const Eigen::VectorXd> bref(buf.bprox.head(m));
   // The inner error is normalised by |b - shift P_k|, not |b|: with large
   // impulses the same velocity error reads smaller there, and the start P_k
   // (where both problems have the same U) passed as solved without a step.
-  const double innerScale = std::max(1.0, pr.bnorm) / std::max(1.0, ws.bprox.head(m).norm());
-  SolveProblem inner(Wref, bref, pr.blocks, std::max(1e-16, kInnerTolRatio * outerErr * innerScale), m, ws);
+  const double innerScale = std::max(1.0, pr.bnorm) / std::max(1.0, buf.bprox.head(m).norm());
+  SolveProblem inner(Wref, bref, pr.blocks, std::max(1e-16, kInnerTolRatio * outerErr * innerScale), m, buf);
   prepareProblem(inner, pr.maxDiag + shift);
-  Iterate innerIt(it.P, ws.U, m);
+  Iterate innerIt(it.P, buf.U, m);
   restartIterate(inner, innerIt);
   start = it.P.head(m);
   iterations = 0;
@@ -90,18 +90,18 @@ bool solveShifted(const SolveProblem& pr, double shift, double outerErr, int bud
 bool runProximalNewton(SolveRun& run, Iterate& it) {
   const SolveProblem& pr = run.problem;
   const int m = pr.m;
-  SolverWorkspace& ws = pr.ws;
+  SolverBuffers& buf = pr.buf;
   const int budget = run.options.max_iterations;
   const double d = smallestDiagonal(pr);
   double sigma = kSigmaPerError * it.err;
   double failedSigma = 0;
   double bestErr = it.err;
-  auto Pbest = ws.proxBest.head(m);
+  auto Pbest = buf.proxBest.head(m);
   Pbest = it.P.head(m);
   bool converged = false;
   int used = 0;  // this loop's Newton iterations
   while (used < budget) {  // each outer step costs at least one
-    ws.Pcentre.head(m) = it.P.head(m);
+    buf.Pcentre.head(m) = it.P.head(m);
     int iterations = 0;
     // The best so far restarts at each outer step's centre (the answer the loop
     // returns when it fails is the last step's, or the centre it started from).
@@ -120,7 +120,7 @@ bool runProximalNewton(SolveRun& run, Iterate& it) {
     }
     // The next centre (and the next inner Newton's start), over-relaxed; the
     // inner answer itself is what the error and the best iterate are of.
-    if (ok) it.P.head(m) = ws.Pcentre.head(m) + kRelaxation * (it.P.head(m) - ws.Pcentre.head(m));
+    if (ok) it.P.head(m) = buf.Pcentre.head(m) + kRelaxation * (it.P.head(m) - buf.Pcentre.head(m));
     if (!ok) {
       failedSigma = sigma;
       sigma *= kSigmaGrowth;
@@ -130,7 +130,7 @@ bool runProximalNewton(SolveRun& run, Iterate& it) {
     }
   }
   if (!converged) it.P.head(m) = Pbest;
-  // The workspace's prepared data back to the original problem.
+  // The prepared data in the buffers back to the original problem.
   prepareProblem(run.problem, pr.maxDiag);
   restartIterate(pr, it);
   return converged && it.err <= pr.tolerance;

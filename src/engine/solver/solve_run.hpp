@@ -15,17 +15,17 @@
 
 namespace nscd {
 
-using SolverWorkspace = FrictionContactSolver::Workspace;
+using SolverBuffers = FrictionContactSolver::Buffers;
 
 // The problem U = W P + b (the top-left m x m of W is read) with what
 // prepareProblem derives from it: the zero rows, the Newton's row scaling and
-// the factored equality block live in the workspace (ws.zeroRow, ws.rho,
-// ws.eqL ...), the scalars here.
+// the factored equality block live in the buffers (buf.zeroRow, buf.rho,
+// buf.eqL ...), the scalars here.
 struct SolveProblem {
   SolveProblem(const Eigen::Ref<const Eigen::MatrixXd>& W_, const Eigen::Ref<const Eigen::VectorXd>& b_,
-               const std::vector<ProblemBlock>& blocks_, double tolerance_, int m_, SolverWorkspace& ws_)
+               const std::vector<ProblemBlock>& blocks_, double tolerance_, int m_, SolverBuffers& buffers_)
       : W(W_), b(b_), blocks(blocks_), tolerance(tolerance_), m(m_), Wm(W_.topLeftCorner(m_, m_)),
-        ws(ws_) {}
+        buf(buffers_) {}
 
   const Eigen::Ref<const Eigen::MatrixXd>& W;
   const Eigen::Ref<const Eigen::VectorXd>& b;
@@ -33,13 +33,13 @@ struct SolveProblem {
   double tolerance;  // on the normalised error (see solverError)
   const int m;
   const Eigen::Block<const Eigen::Ref<const Eigen::MatrixXd>> Wm;
-  SolverWorkspace& ws;
+  SolverBuffers& buf;
 
   double maxDiag = 0;   // the largest W(i, i)
   double zeroDiag = 0;  // W(i, i) at most this: a zero row
   double bnorm = 0;     // |b|, the error's normalisation
   double localTol = 0;  // the local solver's tolerance
-  int ne = 0;           // equality rows (ws.eqRows)
+  int ne = 0;           // equality rows (buf.eqRows)
 };
 
 // An iterate P with U = W P + b (the sweeps update U incrementally and refresh
@@ -85,9 +85,9 @@ struct NsgsState {
 struct SolveRun {
   SolveRun(const Eigen::Ref<const Eigen::MatrixXd>& W, const Eigen::Ref<const Eigen::VectorXd>& b,
            const std::vector<ProblemBlock>& blocks, const SolverOptions& options_,
-           Eigen::Ref<Eigen::VectorXd> P, SolverWorkspace& ws, int m)
-      : problem(W, b, blocks, options_.tolerance, m, ws), options(options_), it(P, ws.U, m),
-        best(ws.Pbest, m) {}
+           Eigen::Ref<Eigen::VectorXd> P, SolverBuffers& buf, int m)
+      : problem(W, b, blocks, options_.tolerance, m, buf), options(options_), it(P, buf.U, m),
+        best(buf.Pbest, m) {}
 
   SolveProblem problem;
   const SolverOptions& options;

@@ -28,7 +28,7 @@ bool newtonDue(const SolveRun& run) { return run.newtonDue; }
 // from it (then the sweeps had carried the iterate somewhere else), and not zero.
 bool warmRestartDue(const SolveRun& run) {
   return run.newtonDue && run.sweepsAtHandover > 1 &&
-         run.problem.ws.Pinitial.head(run.problem.m).cwiseAbs().maxCoeff() > 0;
+         run.problem.buf.Pinitial.head(run.problem.m).cwiseAbs().maxCoeff() > 0;
 }
 bool lastAttemptFailed(const SolveRun& run) { return run.lastAttemptFailed; }
 bool sweepsLeft(const SolveRun& run) { return run.rep.sweeps < run.options.max_iterations; }

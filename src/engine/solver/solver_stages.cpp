@@ -31,16 +31,16 @@ void restartAtBest(SolveRun& run) {
 // Back to where the last Newton started: U and the error exact, the sweeps'
 // stall watch from here (their proximal weight kept).
 void resumeAtNewtonStart(SolveRun& run) {
-  run.it.P.head(run.problem.m) = run.problem.ws.Pstart.head(run.problem.m);
+  run.it.P.head(run.problem.m) = run.problem.buf.Pstart.head(run.problem.m);
   refreshIterate(run.problem, run.it);
   run.nsgs.stallErr = run.it.err;
   run.nsgs.stallIt = run.rep.sweeps;
 }
 
 // A Newton from the iterate on the run's Newton budget (what max_iterations
-// leaves of it); its start kept in ws.Pstart. True if it converged.
+// leaves of it); its start kept in buf.Pstart. True if it converged.
 bool newtonAttempt(SolveRun& run, const NewtonBudget& budget) {
-  run.problem.ws.Pstart.head(run.problem.m) = run.it.P.head(run.problem.m);
+  run.problem.buf.Pstart.head(run.problem.m) = run.it.P.head(run.problem.m);
   const int cap = std::min(budget.max_iterations, run.options.max_iterations - run.newtonBudgetUsed);
   const NewtonResult r = runNewton(run.problem, run.it, {cap, budget.stall, budget.delta0});
   run.newtonBudgetUsed += r.iterations;
@@ -92,7 +92,7 @@ void beginStage(SolveRun& run, Start start) {
       run.it.P.head(m).setZero();
       return restartFresh(run);
     case Start::Warm:
-      run.it.P.head(m) = run.problem.ws.Pinitial.head(m);
+      run.it.P.head(m) = run.problem.buf.Pinitial.head(m);
       return restartFresh(run);
     case Start::Best:
       if (run.best.err < run.it.err) restartAtBest(run);
@@ -147,7 +147,7 @@ StageOutcome newtonRetryStage(SolveRun& run, const Stage& stage) {
 StageOutcome proximalTrialStage(SolveRun& run, const Stage&) {
   const SolveProblem& pr = run.problem;
   const int m = pr.m;
-  Iterate copy(pr.ws.Ptrial.head(m), pr.ws.U, m);
+  Iterate copy(pr.buf.Ptrial.head(m), pr.buf.U, m);
   if (run.best.err < run.it.err) {
     copy.P.head(m) = run.best.P;
     restartIterate(pr, copy);

@@ -200,7 +200,7 @@ StepStatus Simulator::stepAdaptive() {
   const double f = smooth ? kRichardsonFactor : 0.0;
   if (smooth) {
     richardsonExtrapolate(a.coarse, f, state_);
-    trackJointAngles(m, state_);
+    trackJointPositions(m, state_);
   }
   keepForces(a.fine_out, a.coarse_out, f, *out_);
   st.extrapolated = smooth;

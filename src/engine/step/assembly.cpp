@@ -53,7 +53,7 @@ void assembleState(const Model& m, State& s, StepWorkspace& ws) {
                              std::to_string(violation) + " after " +
                              std::to_string(kAssemblyPasses) + " projection passes");
   assembleVelocities(m, s, ws);
-  trackJointAngles(m, s);  // from the scene's initial positions (whole turns kept)
+  trackJointPositions(m, s);  // from the scene's initial positions (whole turns kept)
 }
 
 }  // namespace nscd

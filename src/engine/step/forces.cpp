@@ -53,7 +53,7 @@ const Joint& angleJoint(const Model& m, const Spring& sp) {
 // the relative angle's initial value.
 double angleReference(const Spring& sp, const State& s) {
   if (sp.type != SpringType::Torsion) return 0.0;
-  return sp.joint >= 0 ? s.joint_angle[sp.joint] : sp.relative_initial;
+  return sp.joint >= 0 ? s.joint_position[sp.joint] : sp.relative_initial;
 }
 
 // A spring's scalar reaching its bodies as the scene's body-fixed loads: a force
@@ -282,7 +282,7 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     const BodyState& b0 = bodyOrGround(s, el.body_b);
     Vec6 fa, fb;
     double report = 0;
-    const double ref = el.is_spring ? angleReference(m.springs[el.index], s) : s.joint_angle[el.joint];
+    const double ref = el.is_spring ? angleReference(m.springs[el.index], s) : s.joint_position[el.joint];
     elementForce(m, el, a0, b0, commands, ref, fa, fb, report);
     if (!el.is_spring) out.actuator_effort[el.index] = report;
     if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;

@@ -158,7 +158,7 @@ void solveLonger(RescueContext& c) {
   SolverOptions longer = c.options;
   longer.max_iterations = c.options.max_iterations * kLongerBudget;
   const SolverReport rep_l = solveAgain(c, "longer", longer);
-  c.rep.iterations += rep_l.iterations;
+  c.rep.iteration_sum += rep_l.iteration_sum;
   if (rep_l.converged || rep_l.residual < c.rep.residual) {
     c.rep.residual = rep_l.residual;
     c.rep.converged = rep_l.converged;
@@ -179,7 +179,7 @@ void retryPlastic(RescueContext& c) {
   const double k_unsolved = kineticEnergyOf(c.m, ws.vnew);
   removeRestitution(ws);
   const SolverReport rep_p = solveAgain(c, "plastic_retry", c.options);
-  c.rep.iterations += rep_p.iterations;
+  c.rep.iteration_sum += rep_p.iteration_sum;
   if (rep_p.converged) {
     c.rep.residual = rep_p.residual;
     c.rep.converged = true;
@@ -205,7 +205,7 @@ void solveFrictionless(RescueContext& c) {
   for (ProblemBlock& pb : ws.problem) pb.mu = 0;
   const SolverReport rep0 = solveAgain(c, "frictionless", c.options);
   if (!ws.P.head(ws.rows).allFinite()) return;
-  c.rep.iterations += rep0.iterations;
+  c.rep.iteration_sum += rep0.iteration_sum;
   c.rep.residual = rep0.residual;
   c.rep.converged = false;  // the step's own problem stays unsolved: reported
   applyImpulses(ws);

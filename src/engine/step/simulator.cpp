@@ -22,19 +22,19 @@ constexpr int kLateActivationRounds = 3;
 
 Simulator::Simulator(Model model)
     : model_(std::move(model)), ws_(new StepWorkspace), out_(new StepOutputs),
-      query_ws_(new StepWorkspace), refine_out_(new StepOutputs),
+      query_ws_(new StepWorkspace), halving_out_(new StepOutputs),
       adaptive_(new AdaptiveStepWorkspace) {
   const Model& m = model_;
   initStepWorkspace(m, *ws_);
   initStepWorkspace(m, *query_ws_);
   initStepOutputs(m, *out_);
-  initStepOutputs(m, *refine_out_);
+  initStepOutputs(m, *halving_out_);
   state_ = initialState(m, *ws_);
   placeJournals(m, state_);
   assembleState(m, state_, *ws_);  // positions and velocities onto the constraints
   initial_state_ = state_;
   // Sized once: a halving copies commands without allocating.
-  refine_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
+  halving_commands_.assign(m.settings.max_step_halvings + 1, state_.commands);
   if (m.settings.step_control == StepControl::Adaptive) initAdaptiveStep(m, *ws_, state_, *adaptive_);
 }
 
@@ -53,7 +53,7 @@ void Simulator::setState(const State& s) {
       s.prev_commands.size() != ref.prev_commands.size() || s.warm.size() != ref.warm.size() ||
       s.warm_valid.size() != ref.warm_valid.size() ||
       s.warm_bilateral.size() != ref.warm_bilateral.size() ||
-      s.ring_hint.size() != ref.ring_hint.size() || s.joint_angle.size() != ref.joint_angle.size())
+      s.ring_hint.size() != ref.ring_hint.size() || s.joint_position.size() != ref.joint_position.size())
     throw std::invalid_argument("setState: the state was not made for this model (sizes differ)");
   bool finite = std::isfinite(s.t);
   for (const BodyState& b : s.bodies)
@@ -61,7 +61,7 @@ void Simulator::setState(const State& s) {
              b.w.allFinite();
   for (double c : s.commands) finite = finite && std::isfinite(c);
   for (double c : s.prev_commands) finite = finite && std::isfinite(c);
-  for (double a : s.joint_angle) finite = finite && std::isfinite(a);
+  for (double a : s.joint_position) finite = finite && std::isfinite(a);
   finite = finite && std::isfinite(s.step_next) && std::isfinite(s.step_error);
   if (!finite) throw std::invalid_argument("setState: the state holds a non-finite value");
   if (s.step_next < 0 || s.step_error < 0)
@@ -94,9 +94,9 @@ StepStatus Simulator::stepWhole(double h) {
   // Unsolved: taken again from its start (advance left the state as it found it)
   // as two steps of h/2 (step_halving.cpp). The attempt's work is counted.
   StepStats total;
-  startHalvedStep(out_->stats, total, *refine_out_);
+  startHalvedStep(out_->stats, total, *halving_out_);
   const StepStatus halves = takeHalves(h, 1, 0, total);
-  finishHalvedStep(total, *refine_out_, *out_);
+  finishHalvedStep(total, *halving_out_, *out_);
   return halves;
 }
 
@@ -106,7 +106,7 @@ StepStatus Simulator::stepWhole(double h) {
 // the first half ends on their mean (a prescribed motion keeps its rate).
 StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& total) {
   const int max_level = model_.settings.max_step_halvings;
-  std::vector<double>& end_command = refine_commands_[level];
+  std::vector<double>& end_command = halving_commands_[level];
   end_command = state_.commands;
   for (int half = 0; half < 2; ++half) {
     for (size_t i = 0; i < end_command.size(); ++i)
@@ -117,7 +117,7 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
       addDroppedAttempt(out_->stats, total);
       s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
     } else {
-      addSubstep(out_->stats, level, *out_, total, *refine_out_);
+      addSubstep(out_->stats, level, *out_, total, *halving_out_);
     }
     if (s == StepStatus::NonFinite) return s;
   }
@@ -163,7 +163,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
       const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
       const SolverReport rep = solveWithRescues(m, ws, solverOptions(set), may_halve,
                                                 ResolveObserver{observe, state_.t, round, halvings, substep}, st);
-      iterations += rep.iterations;
+      iterations += rep.iteration_sum;
       st.iterations = iterations;
       st.residual = rep.residual;
       st.converged = rep.converged;
@@ -211,7 +211,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   }
   clearConstraintRows(ws);
 
-  trackJointAngles(m, state_);
+  trackJointPositions(m, state_);
 
   bool finite = ws.vnew.allFinite();
   for (const BodyState& b : state_.bodies)

@@ -62,12 +62,12 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // rates[i]: commanded rate of actuator i (prescribed).
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws);
-// Continuous joint coordinate at the state (State::joint_angle as the reference).
+// Continuous joint coordinate at the state (State::joint_position as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);
 // Follows every joint's continuous coordinate to the state's positions (after a
 // step; at assembly from 0).
-void trackJointAngles(const Model& m, State& s);
+void trackJointPositions(const Model& m, State& s);
 
 // ---- 2b. contact candidates (contact_candidates.cpp)
 // Largest turn of a contact normal between q_k and the predicted configuration

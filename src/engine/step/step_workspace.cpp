@@ -228,8 +228,8 @@ State initialState(const Model& m, const StepWorkspace& ws) {
   s.warm_valid.assign(ws.facts.contact_slots, 0);
   s.warm_bilateral.assign(ws.facts.bilateral_rows, 0.0);
   s.ring_hint.assign(2 * m.clearance_joints.size(), std::numeric_limits<double>::quiet_NaN());
-  s.joint_angle.resize(m.joints.size());
-  for (size_t j = 0; j < m.joints.size(); ++j) s.joint_angle[j] = m.joints[j].initial_position;
+  s.joint_position.resize(m.joints.size());
+  for (size_t j = 0; j < m.joints.size(); ++j) s.joint_position[j] = m.joints[j].initial_position;
   return s;
 }
 
