@@ -94,5 +94,7 @@ if ! skip crank; then
     --out "$OUT" "${quick_arg[@]}" > /dev/null
 fi
 
+# How long the stages took (kept from the last run that ran any).
+skip scenes && skip crank || echo $(( $(date +%s) - start )) > "$OUT/elapsed.txt"
 $py "$repo/scripts/analysis/work_precision_page.py" "$OUT" --template "$repo/scripts/templates/work_precision_template.md" \
-  --page "$repo/docs/work_precision.md" --elapsed $(( $(date +%s) - start ))
+  --page "$repo/docs/work_precision.md"

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Writes docs/work_precision.md (fixed against adaptive steps) from the raw results
 scripts/work_precision_page.sh leaves in OUT: per scene OUT/wp_SCENE.csv
-(nscd_work_precision) and OUT/wp_SCENE.info (its command, load before and after),
-and the slider-crank study's OUT/crank_*.csv. Run by work_precision_page.sh.
+(nscd_work_precision) and OUT/wp_SCENE.info (its command, load before and after), the
+slider-crank study's OUT/crank_study.md, and OUT/ran_STAGE.info and OUT/elapsed.txt
+(when and how long). Run by work_precision_page.sh.
 
     work_precision_page.py OUT --template scripts/templates/work_precision_template.md --page docs/work_precision.md
 """
@@ -195,7 +196,6 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--template", required=True)
     ap.add_argument("--page", required=True)
-    ap.add_argument("--elapsed", type=int, default=0)
     a = ap.parse_args()
     sections, summary = [], []
     for name, metric in SCENES:
@@ -205,7 +205,9 @@ def main():
     page = open(a.template).read()
     page = page.replace("@RUN@", run_section(a.out))
     page = page.replace("@MACHINE@", "%s, %d cores" % (cpu(), os.cpu_count()))
-    page = page.replace("@ELAPSED@", "%d min %d s" % divmod(a.elapsed, 60))
+    ep = os.path.join(a.out, "elapsed.txt")
+    elapsed = int(open(ep).read()) if os.path.exists(ep) else None
+    page = page.replace("@ELAPSED@", "%d min %d s" % divmod(elapsed, 60) if elapsed is not None else "an unknown time")
     page = page.replace("@SUMMARY@", "| scene | adaptive no slower than the best fixed dt | each adaptive run: error m "
                         "(adaptive wall / best fixed dt's wall at that error; ~ extrapolated, **bold** where "
                         "adaptive is slower) |\n|---|---|---|\n" + "".join(summary))
