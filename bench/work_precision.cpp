@@ -11,7 +11,10 @@
 // --adaptive-tols adds runs with the adaptive step control (Settings::step_control;
 // rtol = atol = each value, dt = --adaptive-dt the largest step, the solver at
 // --adaptive-solver-tol), their steps cut at the sample times (the CSV's h column
-// is then the largest step, its step_control column "adaptive").
+// is then the largest step, its step_control column "adaptive"). --ref-adaptive TOL
+// makes the reference such a run at rtol = atol = TOL (for smooth scenes, where a
+// fixed-step reference of a first-order scheme is less accurate than the runs).
+// pos_err_end: the position error at the last sample alone.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -142,7 +145,7 @@ Trace runTrace(const Scene& s, double h, double tol, double adaptive_tol) {
 }
 
 struct Errors {
-  double pos_max = NAN, pos_rms = NAN, force_rel = NAN;
+  double pos_max = NAN, pos_rms = NAN, force_rel = NAN, pos_end = NAN;
 };
 
 Errors compare(const Trace& t, const Trace& ref) {
@@ -157,6 +160,14 @@ Errors compare(const Trace& t, const Trace& ref) {
   }
   e.pos_max = mx;
   e.pos_rms = std::sqrt(ss / (t.pos.size() / 3));
+  // The last sample: its bodies' triples are the last nb of pos (nb = pos per sample / 3).
+  const size_t per_sample = t.pos.size() / (t.force.size() + 1);
+  double end = 0;
+  for (size_t i = t.pos.size() - per_sample; i < t.pos.size(); i += 3) {
+    const double dx = t.pos[i] - ref.pos[i], dy = t.pos[i + 1] - ref.pos[i + 1], dz = t.pos[i + 2] - ref.pos[i + 2];
+    end = std::max(end, std::sqrt(dx * dx + dy * dy + dz * dz));
+  }
+  e.pos_end = end;
   double df = 0, fr = 0;
   for (size_t j = 0; j < t.force.size(); ++j) {
     df += (t.force[j] - ref.force[j]) * (t.force[j] - ref.force[j]);
@@ -212,7 +223,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> file_scenes, commands;
   double file_duration = 0.2, file_sample_dt = 1e-3;
   std::string adaptive_tols_arg;
-  double adaptive_dt = 0, adaptive_solver_tol = 0;
+  double adaptive_dt = 0, adaptive_solver_tol = 0, ref_adaptive = 0;
   app.add_option("--scenes", scenes_arg, "built-in scenes to run (comma list; 'none' for none)");
   app.add_option("--hs", hs_arg, "time steps (each must divide the sample interval)");
   app.add_option("--tols", tols_arg, "solver tolerances");
@@ -229,6 +240,9 @@ int main(int argc, char** argv) {
   app.add_option("--adaptive-dt", adaptive_dt, "adaptive runs: the largest step (default: the sample interval)");
   app.add_option("--adaptive-solver-tol", adaptive_solver_tol,
                  "adaptive runs: the solver tolerance (default: the tightest of --tols)");
+  app.add_option("--ref-adaptive", ref_adaptive,
+                 "the reference: an adaptive run at rtol = atol = this (largest step --adaptive-dt), "
+                 "solver at --ref-tol, instead of fixed steps of --href");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<Scene> scenes;
@@ -264,18 +278,19 @@ int main(int argc, char** argv) {
   const double solver_tol_adaptive =
       adaptive_solver_tol > 0 ? adaptive_solver_tol : *std::min_element(tols.begin(), tols.end());
   for (int s = 0; s < int(scenes.size()); ++s) {
-    work.push_back({s, href, ref_tol, true, 0, {}});
+    const double h_max = adaptive_dt > 0 ? adaptive_dt : scenes[s].sample_dt;
+    work.push_back({s, ref_adaptive > 0 ? h_max : href, ref_tol, true, ref_adaptive, {}});
     for (double tol : tols)
       for (double h : hs) work.push_back({s, h, tol, false, 0, {}});
-    const double h_max = adaptive_dt > 0 ? adaptive_dt : scenes[s].sample_dt;
     for (double atol : adaptive_tols) work.push_back({s, h_max, solver_tol_adaptive, false, atol, {}});
   }
-  // Longest first: the references and the small steps set the total time.
+  // Longest first: the references and the small steps set the total time (an adaptive
+  // reference counts as the longest).
   std::vector<size_t> order_idx(work.size());
   for (size_t i = 0; i < work.size(); ++i) order_idx[i] = i;
-  std::stable_sort(order_idx.begin(), order_idx.end(), [&](size_t a, size_t b) {
-    return scenes[work[a].scene].duration / work[a].h > scenes[work[b].scene].duration / work[b].h;
-  });
+  auto length = [&](const Job& j) { return j.reference ? INFINITY : scenes[j.scene].duration / j.h; };
+  std::stable_sort(order_idx.begin(), order_idx.end(),
+                   [&](size_t a, size_t b) { return length(work[a]) > length(work[b]); });
   std::fprintf(stderr, "nscd_work_precision: %zu runs on %d threads\n", work.size(), jobs);
   nscd::sweep::parallelFor(long(work.size()), jobs, [&](long i) {
     Job& j = work[order_idx[i]];
@@ -284,19 +299,19 @@ int main(int argc, char** argv) {
 
   std::ofstream out(csv);
   out << "scene,reference,h,tolerance,status,steps,wall_s,us_per_step,iters_mean,unconverged_steps,"
-         "pos_err_max,pos_err_rms,force_err_rel";
+         "pos_err_max,pos_err_rms,force_err_rel,pos_err_end";
   if (!adaptive_tols.empty()) out << ",step_control,step_tol,rejected_steps";
   out << "\n";
   std::map<int, const Trace*> refs;
   for (const Job& j : work)
     if (j.reference) refs[j.scene] = &j.trace;
   for (const Job& j : work) {
-    const Errors e = j.reference ? Errors{0, 0, 0} : compare(j.trace, *refs[j.scene]);
+    const Errors e = j.reference ? Errors{0, 0, 0, 0} : compare(j.trace, *refs[j.scene]);
     const Trace& t = j.trace;
     out << scenes[j.scene].name << "," << (j.reference ? 1 : 0) << "," << fmt6(j.h) << "," << fmt6(j.tol)
         << "," << t.status << "," << t.steps << "," << fmt6(t.wall_s) << ","
         << fmt6(t.steps ? 1e6 * t.wall_s / t.steps : 0) << "," << fmt6(t.iters_mean) << "," << t.unconverged
-        << "," << fmt6(e.pos_max) << "," << fmt6(e.pos_rms) << "," << fmt6(e.force_rel);
+        << "," << fmt6(e.pos_max) << "," << fmt6(e.pos_rms) << "," << fmt6(e.force_rel) << "," << fmt6(e.pos_end);
     if (!adaptive_tols.empty())
       out << "," << (j.adaptive_tol > 0 ? "adaptive" : "fixed") << "," << fmt6(j.adaptive_tol) << ","
           << t.rejected;
@@ -304,7 +319,8 @@ int main(int argc, char** argv) {
   }
   // Orders at the tightest tolerance.
   const double tight = *std::min_element(tols.begin(), tols.end());
-  std::printf("scene,tolerance,order_pos_max,order_pos_rms,order_force,ref_h,ref_wall_s,ref_unconverged\n");
+  std::printf("scene,tolerance,order_pos_max,order_pos_rms,order_force,ref_h,ref_wall_s,ref_unconverged%s\n",
+              ref_adaptive > 0 ? ",ref_adaptive_tol" : "");
   for (int s = 0; s < int(scenes.size()); ++s) {
     std::vector<double> h, pm, pr, fr;
     for (const Job& j : work)
@@ -312,8 +328,11 @@ int main(int argc, char** argv) {
         const Errors e = compare(j.trace, *refs[s]);
         h.push_back(j.h), pm.push_back(e.pos_max), pr.push_back(e.pos_rms), fr.push_back(e.force_rel);
       }
-    std::printf("%s,%g,%.3f,%.3f,%.3f,%g,%.3f,%ld\n", scenes[s].name.c_str(), tight, order(h, pm),
-                order(h, pr), order(h, fr), href, refs[s]->wall_s, refs[s]->unconverged);
+    std::printf("%s,%g,%.3f,%.3f,%.3f,%g,%.3f,%ld", scenes[s].name.c_str(), tight, order(h, pm),
+                order(h, pr), order(h, fr), ref_adaptive > 0 ? (adaptive_dt > 0 ? adaptive_dt : scenes[s].sample_dt) : href,
+                refs[s]->wall_s, refs[s]->unconverged);
+    if (ref_adaptive > 0) std::printf(",%g", ref_adaptive);
+    std::printf("\n");
   }
   return 0;
 }

@@ -1,0 +1,147 @@
+// nscd_mujoco_compare: nscd_sim and MuJoCo side by side, in one process, on a
+// pendulum, a double pendulum, a four-bar and a ball (compare_models.hpp). Each run
+// goes to t = 1 s and is compared with a converged reference there; the runs of the
+// engines are interleaved, one level of their grids at a time, so that the load of a
+// shared machine falls on all of them alike.
+//   OUT/runs.csv        one row per run: steps, wall and CPU time of the stepping, errors
+//   OUT/references.csv  each reference's self-check (its step against twice its step)
+// scripts/analysis/mujoco_compare.py turns them into tables.
+//
+// usage: nscd_mujoco_compare [--out DIR] [--quick] [--scenes a,b] [--min-seconds S]
+//        nscd_mujoco_compare --single SCENE METHOD SETTING --steps N   (one run, for callgrind)
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "compare_models.hpp"
+
+using namespace nscd_mujoco;
+
+namespace {
+
+struct Grid {
+  Method method;
+  std::vector<double> settings;
+};
+
+std::vector<Grid> grids(bool quick) {
+  if (quick)
+    return {{Method::MujocoEuler, {1e-3, 1e-4}},
+            {Method::MujocoRk4, {1e-2, 1e-3, 1e-4}},
+            {Method::NscdFixed, {1e-3, 1e-4}},
+            {Method::NscdAdaptive, {1e-4, 1e-6}}};
+  return {{Method::MujocoEuler, {1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5}},
+          {Method::MujocoRk4, {5e-2, 4e-2, 2.5e-2, 2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5}},
+          {Method::NscdFixed, {1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5}},
+          {Method::NscdAdaptive, {1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 1e-7, 1e-8}}};
+}
+
+Method methodNamed(const std::string& name) {
+  for (Method m : {Method::NscdFixed, Method::NscdAdaptive, Method::MujocoEuler, Method::MujocoRk4})
+    if (name == methodName(m)) return m;
+  std::fprintf(stderr, "unknown method '%s' (nscd_fixed, nscd_adaptive, mujoco_euler, mujoco_rk4)\n", name.c_str());
+  std::exit(2);
+}
+
+RunResult run(const std::string& src, const SceneSpec& s, Method m, double setting, const RunOptions& o) {
+  return isMujoco(m) ? runMujoco(src, s, m, setting, o) : runNscd(src, s, m, setting, o);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out = ".", src = NSCD_SOURCE_DIR, scene_list = "pendulum,double_pendulum,fourbar,ball";
+  bool quick = false;
+  RunOptions o;
+  std::vector<std::string> single;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--out") out = next();
+    else if (a == "--source") src = next();
+    else if (a == "--scenes") scene_list = next();
+    else if (a == "--quick") quick = true;
+    else if (a == "--min-seconds") o.min_seconds = std::atof(next().c_str());
+    else if (a == "--steps") o.fixed_steps = std::atol(next().c_str());
+    else if (a == "--single") {
+      single = {next(), next(), next()};
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s [--out DIR] [--quick] [--scenes pendulum,double_pendulum,fourbar,ball] "
+                   "[--min-seconds S] [--source DIR]\n"
+                   "       %s --single SCENE METHOD SETTING --steps N\n",
+                   argv[0], argv[0]);
+      return 2;
+    }
+  }
+  try {
+    if (!single.empty()) {
+      // One run, once: what callgrind counts (scripts/mujoco_compare.sh --instructions).
+      o.max_repetitions = 1;
+      const RunResult r = run(src, sceneNamed(single[0]), methodNamed(single[1]), std::atof(single[2].c_str()), o);
+      if (!r.error.empty()) {
+        std::fprintf(stderr, "%s\n", r.error.c_str());
+        return 1;
+      }
+      std::printf("%s %s %s steps=%ld wall_s=%.6g\n", single[0].c_str(), single[1].c_str(), single[2].c_str(),
+                  r.steps, r.wall_s);
+      return 0;
+    }
+    std::vector<const SceneSpec*> chosen;
+    for (size_t p = 0; p <= scene_list.size();) {
+      const size_t q = std::min(scene_list.find(',', p), scene_list.size());
+      chosen.push_back(&sceneNamed(scene_list.substr(p, q - p)));
+      p = q + 1;
+    }
+    FILE* runs = std::fopen((out + "/runs.csv").c_str(), "w");
+    FILE* refs = std::fopen((out + "/references.csv").c_str(), "w");
+    if (!runs || !refs) {
+      std::fprintf(stderr, "cannot write into %s\n", out.c_str());
+      return 1;
+    }
+    std::fprintf(runs, "scene,method,setting,steps,rejected,unconverged,repetitions,wall_s,cpu_s,us_per_step,"
+                       "err_angle,err_pos,error\n");
+    std::fprintf(refs, "scene,t,self_check_angle,self_check_pos\n");
+    const std::vector<Grid> gs = grids(quick);
+    for (const SceneSpec* s : chosen) {
+      const EndState ref = referenceEnd(s->id, o.duration);
+      const Errors self = referenceSelfCheck(s->id, o.duration);
+      std::fprintf(refs, "%s,%g,%.3g,%.3g\n", s->name, o.duration, self.angle, self.position);
+      size_t levels = 0;
+      for (const Grid& g : gs) levels = std::max(levels, g.settings.size());
+      for (size_t level = 0; level < levels; ++level)
+        for (const Grid& g : gs) {
+          if (level >= g.settings.size()) continue;
+          const double setting = g.settings[level];
+          const RunResult r = run(src, *s, g.method, setting, o);
+          const Errors e = r.error.empty() ? compareEnd(r.end, ref) : Errors{NAN, NAN};
+          std::string err = r.error;
+          for (char& c : err)
+            if (c == ',' || c == '\n') c = ';';
+          std::fprintf(runs, "%s,%s,%g,%ld,%ld,%ld,%d,%.6g,%.6g,%.6g,%.4g,%.4g,%s\n", s->name,
+                       methodName(g.method), setting, r.steps, r.rejected, r.unconverged, r.repetitions, r.wall_s,
+                       r.cpu_s, r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.c_str());
+          std::fflush(runs);
+          std::printf("%-16s %-14s %-8g steps %-7ld wall %9.3f ms  %8.3f us/step  angle err %.3e  pos err %.3e%s%s\n",
+                      s->name, methodName(g.method), setting, r.steps, 1e3 * r.wall_s,
+                      r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.empty() ? "" : "  ERROR: ",
+                      err.c_str());
+          std::fflush(stdout);
+        }
+    }
+    std::fclose(runs);
+    std::fclose(refs);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nscd_mujoco_compare: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
