@@ -338,3 +338,51 @@ TEST(StepControl, StepsEndAtScheduleCornersAndTheEnd) {
   EXPECT_EQ(sim.state().t, 0.03);
   EXPECT_LT(worst, 1e-9);
 }
+
+// A torque whose scene schedule starts away from the actuator's initial command
+// (0) and jumps to 0 at a corner: 0.01 N m for 0.1 s, then none, on a bar turning
+// freely on a hinge (J = 1.33e-3 kg m^2, no gravity). The steps start from the
+// schedule's value just after their start, so the torque is a step function, as
+// fixed steps apply it, and the run is smooth between the jumps: a handful of
+// steps, none at the floor, and the analytic rate tau 0.1 / J and angle.
+// (Interpolated from the initial 0, each step cut short pulled the command back
+// towards 0 and the controller ran to the floor at the start.)
+TEST(StepControl, ScheduleJumpsAreTakenAtTheStepStart) {
+  const std::string urdf = R"(<?xml version="1.0"?>
+<robot name="crank">
+  <link name="world"/>
+  <link name="bar">
+    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
+      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
+  </link>
+  <joint name="hinge" type="continuous">
+    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
+  </joint>
+  <nscd><actuator name="spin" type="torque" link="bar" axis="0 0 2" schedule="0:0.01,0.1:0.01,0.1:0"/>
+  <simulation dt="1e-2" gravity="0 0 0"/></nscd>
+</robot>)";
+  Simulator sim(loadSceneFromString(urdf, "crank.urdf", adaptive(1e-6, 1e-2)));
+  const std::vector<BoundSchedule> sched = bindCommandSchedules({}, sim.model());
+  ASSERT_EQ(sched.size(), 1u);
+  applySchedules(sched, 0.0, sim);
+  const double J = 3.3e-4 + 0.1 * 0.1 * 0.1, tau = 0.01;
+  long steps = 0;
+  double h_min = INFINITY;
+  for (long k = 1; !runFinished(sim, k - 1, 0.2); ++k) {
+    prepareScheduledStep(sim, sched, k, 0.2);
+    ASSERT_EQ(sim.step(), StepStatus::Ok);
+    ++steps;
+    h_min = std::min(h_min, sim.stats().h);
+    if (sim.state().t == 0.1) {
+      EXPECT_NEAR(sim.actuatorEffort(0), tau, 1e-15);
+      EXPECT_NEAR(sim.jointVelocity(0), tau * 0.1 / J, 1e-6 * tau * 0.1 / J);
+    }
+  }
+  std::printf("[ figures  ] torque 0.01 N m for 0.1 s from a command of 0, tol 1e-6: %ld steps, h_min %.3g s\n", steps,
+              h_min);
+  EXPECT_EQ(sim.actuatorEffort(0), 0.0);
+  EXPECT_NEAR(sim.jointVelocity(0), tau * 0.1 / J, 1e-6 * tau * 0.1 / J);
+  EXPECT_NEAR(sim.jointPosition(0), tau * 0.01 / (2 * J) + tau * 0.1 / J * 0.1, 1e-6);
+  EXPECT_LE(steps, 60);
+  EXPECT_GE(h_min, 1e-3);
+}

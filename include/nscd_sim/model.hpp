@@ -238,8 +238,9 @@ struct Settings {
   StepControl step_control = StepControl::Fixed;
   // Adaptive steps: a step is kept when every component of the body states
   // (position, orientation, velocity, angular velocity) of its two paths differ
-  // by at most atol + rtol |value| (orientation: atol + rtol, in rad; where a
-  // contact changed mode, velocity differences times h, as displacements).
+  // by at most atol + rtol |value|, rotations measured by what they move a point
+  // at the body's length by (docs/step_control.md), so atol is m and m/s; where a
+  // contact changed mode, velocity differences count times h, as displacements.
   double rtol = 1e-3;
   double atol = 1e-6;
   // Adaptive steps: the floor of the step length, s; a step at the floor is kept

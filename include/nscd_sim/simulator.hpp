@@ -282,6 +282,10 @@ class Simulator {
 
   StepStatus stepWhole(double h);
   StepStatus stepAdaptive();
+  // adaptive_step.cpp: one path of an adaptive step, and one attempt (both paths).
+  StepStatus takeAdaptivePath(int substeps, double h, double fraction, StepOutputs& forces, bool& event,
+                              long& iterations);
+  StepStatus attemptAdaptiveStep(double h, double fraction, double& error, bool& event, long& iterations);
   StepStatus advance(double h, int halvings, int substep);
   StepStatus takeHalves(double h, int level, int index, StepStats& total);
 };

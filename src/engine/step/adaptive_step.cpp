@@ -92,10 +92,13 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
   a.start = state;
   a.coarse = state;
   a.end_command = state.commands;
+  a.start_command = state.commands;
   initStepOutputs(m, a.coarse_out);
   initStepOutputs(m, a.fine_out);
   // Warm-start slots: kMaxPointsPerPair per contact pair, then kMaxClearancePoints
   // per clearance joint (contact_candidates.cpp, clearance_joint.cpp).
+  a.rotation_length.resize(m.bodies.size());
+  for (size_t i = 0; i < m.bodies.size(); ++i) a.rotation_length[i] = rotationLength(m, static_cast<int>(i));
   a.slot_mu.assign(ws.facts.contact_slots, 0.0);
   for (int slot = 0; slot < ws.facts.contact_slots; ++slot) {
     const int base = ws.facts.contact_slot_base_clearance;
@@ -120,14 +123,74 @@ double Simulator::planStep(double until) {
   }
   planned_h_ = h;
   planned_proposal_ = proposal;
+  // The commands now are those the step starts from (a front end with schedules
+  // has set them to their values just after t: prepareScheduledStep); a step cut
+  // short ends on the line from them to the commands set for the planned end.
+  std::copy(state_.commands.begin(), state_.commands.end(), adaptive_->start_command.begin());
   return std::isnan(planned_end_) ? state_.t + h : planned_end_;
+}
+
+// n substeps of length h / n from a.start (in state_), the commands linear from
+// a.start_command to those at t0 + fraction h_plan (a.end_command); forces
+// averaged into `forces`, stats gathered into out_->stats; `event`: a substep had
+// a nonsmooth event or left a contact in another mode than at the start.
+StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOutputs& forces, bool& event,
+                                       long& iterations) {
+  AdaptiveStepWorkspace& a = *adaptive_;
+  StepStatus worst = StepStatus::Ok;
+  StepStats total;
+  event = false;
+  clearForces(forces);
+  for (int i = 1; i <= n; ++i) {
+    const double f = i == n ? fraction : fraction * i / n;
+    for (size_t c = 0; c < a.end_command.size(); ++c) {
+      const double c0 = a.start_command[c], c1 = a.end_command[c];
+      state_.commands[c] = f == 1 ? c1 : c0 + f * (c1 - c0);
+    }
+    const StepStatus s = stepWhole(h / n);
+    iterations += out_->stats.iterations;
+    if (s == StepStatus::NonFinite) return s;
+    if (s == StepStatus::NotConverged) worst = s;
+    event = event || stepHadEvent(out_->stats) || !sameContactModes(a.slot_mu, a.start, state_);
+    addForces(*out_, 1.0 / n, forces);
+    if (i > 1) gatherStats(total, out_->stats);
+    total = out_->stats;
+  }
+  return worst;
+}
+
+// One attempt of length h from a.start: the coarse path (kept in a.coarse), then
+// the fine one (left in state_), and their scaled difference. Where a contact
+// changed mode, velocities jump: the paths' velocities differ by O(1) whenever
+// one has met the event and the other not yet, however short the step. Their
+// difference then counts as the displacement it makes over the step (weight h),
+// which a shorter step does reduce: the event is located in time.
+StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& error, bool& event,
+                                          long& iterations) {
+  AdaptiveStepWorkspace& a = *adaptive_;
+  const Settings& set = model_.settings;
+  state_ = a.start;  // same sizes: no allocation
+  bool coarse_event = false, fine_event = false;
+  const StepStatus coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
+  a.coarse = state_;
+  a.coarse_out.stats = out_->stats;
+  state_ = a.start;
+  const StepStatus fine = takeAdaptivePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event, iterations);
+  event = coarse_event || fine_event;
+  error = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite
+              ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
+              : INFINITY;
+  return fine;
 }
 
 StepStatus Simulator::stepAdaptive() {
   const Model& m = model_;
   const Settings& set = m.settings;
   AdaptiveStepWorkspace& a = *adaptive_;
-  if (!(planned_h_ > 0)) planStep(INFINITY);
+  if (!(planned_h_ > 0)) {  // no plan: the step starts from the commands the last one ended on
+    planStep(INFINITY);
+    std::copy(state_.prev_commands.begin(), state_.prev_commands.end(), a.start_command.begin());
+  }
   const double h_plan = planned_h_, end_plan = planned_end_, proposal = planned_proposal_;
   planned_h_ = 0;
   const StepLengths lim = stepLengths(set);
@@ -136,53 +199,12 @@ StepStatus Simulator::stepAdaptive() {
   a.end_command = state_.commands;
 
   long iterations = 0;
-  // n substeps of length h / n from a.start (in state_), the commands linear from
-  // those at the start to those at t0 + fraction h_plan; forces averaged into
-  // `forces`, stats gathered into out_->stats; `event`: some substep had a
-  // nonsmooth event or left a contact in another mode than at the start.
-  auto takePath = [&](int n, double h, double fraction, StepOutputs& forces, bool& event) {
-    StepStatus worst = StepStatus::Ok;
-    StepStats total;
-    event = false;
-    clearForces(forces);
-    for (int i = 1; i <= n; ++i) {
-      const double f = i == n ? fraction : fraction * i / n;
-      for (size_t c = 0; c < a.end_command.size(); ++c) {
-        const double c0 = a.start.prev_commands[c], c1 = a.end_command[c];
-        state_.commands[c] = f == 1 ? c1 : c0 + f * (c1 - c0);
-      }
-      const StepStatus s = stepWhole(h / n);
-      iterations += out_->stats.iterations;
-      if (s == StepStatus::NonFinite) return s;
-      if (s == StepStatus::NotConverged) worst = s;
-      event = event || stepHadEvent(out_->stats) || !sameContactModes(a.slot_mu, a.start, state_);
-      addForces(*out_, 1.0 / n, forces);
-      if (i > 1) gatherStats(total, out_->stats);
-      total = out_->stats;
-    }
-    return worst;
-  };
-
   int rejected = 0;
   double h = h_plan, error = 0;
-  bool coarse_event = false, fine_event = false;
+  bool event = false;
   StepStatus status = StepStatus::Ok;
   for (;;) {
-    const double fraction = h == h_plan ? 1.0 : h / h_plan;
-    if (rejected > 0) state_ = a.start;
-    const StepStatus coarse = takePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event);
-    a.coarse = state_;
-    a.coarse_out.stats = out_->stats;
-    state_ = a.start;
-    status = takePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event);
-    // Where a contact changed mode, velocities jump: the paths' velocities differ by
-    // O(1) whenever one has met the event and the other not yet, however short the
-    // step. Their difference then counts as the displacement it makes over the step
-    // (weight h), which a shorter step does reduce: the event is located in time.
-    const bool event = coarse_event || fine_event;
-    error = status != StepStatus::NonFinite && coarse != StepStatus::NonFinite
-                ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0)
-                : INFINITY;
+    status = attemptAdaptiveStep(h, h == h_plan ? 1.0 : h / h_plan, error, event, iterations);
     if (error <= 1 || h <= lim.h_min) break;
     ++rejected;
     h = retryStepLength(lim, h, error);
@@ -196,14 +218,13 @@ StepStatus Simulator::stepAdaptive() {
   if (status == StepStatus::NonFinite) return status;
   // Nothing nonsmooth on either path, every contact in the mode it ended the last
   // step in: the fine path's answer extrapolated.
-  const bool smooth = !coarse_event && !fine_event;
-  const double f = smooth ? kRichardsonFactor : 0.0;
-  if (smooth) {
+  const double f = event ? 0.0 : kRichardsonFactor;
+  if (!event) {
     richardsonExtrapolate(a.coarse, f, state_);
     trackJointPositions(m, state_);
   }
   keepForces(a.fine_out, a.coarse_out, f, *out_);
-  st.extrapolated = smooth;
+  st.extrapolated = !event;
   state_.t = h == h_plan && !std::isnan(end_plan) ? end_plan : t0 + h;
   double next = nextStepLength(lim, h, error, a.start.step_error, rejected > 0);
   // A step cut short to end at a given time is no reason for the next to be short.

@@ -22,9 +22,11 @@ namespace nscd {
 struct AdaptiveStepWorkspace {
   State start;          // the State the step starts from (restored for each path)
   State coarse;         // after the coarse path
-  std::vector<double> end_command;  // the commands at the end of the planned step
+  std::vector<double> start_command;  // the commands the planned step starts from (planStep)
+  std::vector<double> end_command;    // the commands at the end of the planned step
   StepOutputs coarse_out, fine_out;  // the paths' forces (averaged) and stats
   std::vector<double> slot_mu;       // friction coefficient of each warm-start slot
+  std::vector<double> rotation_length;  // per body (m): rotationLength
 };
 
 // Sizes the buffers for the model (`state`: the simulator's, for the sizes).
@@ -33,11 +35,21 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
 
 // ---- step_doubling.cpp
 // The largest difference between two states' bodies, each component scaled by
-// atol + rtol max(|a|, |b|): positions, velocities and angular velocities (world
-// frame) times velocity_weight, and orientations as the angle between them
-// (scaled by atol + rtol). Infinite if either is not finite.
+// atol + rtol max(|a|, |b|): positions, velocities times velocity_weight, and the
+// rotations as what they move a point at the body's rotation_length (m) by:
+// angular velocities (world frame, times velocity_weight) times that length, and
+// the angle between the orientations times it (scaled by atol + rtol length).
+// Every component is a length or a speed, so atol is m and m/s for every body.
+// Infinite if either state is not finite.
 double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
-                             double velocity_weight);
+                             double velocity_weight, const std::vector<double>& rotation_length);
+// A body's length for its rotations: the farthest point, from its centre of mass,
+// of what it is attached by or touches (joint anchors, bearings with their length,
+// contact shapes, spring ends), and at least its radius of gyration
+// sqrt(trace I / 2 m); 1 m if none of these gives a positive length. A pendulum
+// bob 1 m below its pivot gets 1 m; the C-60's parts 7-19 mm (a rad on a 7 mm
+// part is 7 mm, not 1 m).
+double rotationLength(const Model& m, int body);
 // True if no contact changed mode between the two states' warm starts (the
 // impulses of the step each ended): each slot open (inactive, or no normal
 // impulse) in both, or closed in both and sticking in both, or sliding in both

@@ -17,13 +17,31 @@ double nextScheduleCorner(const std::vector<BoundSchedule>& schedules, double t)
   return corner;
 }
 
+namespace {
+
+// The schedule's value just after t: at a time listed more than once (a jump)
+// the last value listed there, elsewhere value(t) (which takes the first one).
+double valueAfter(const CommandSchedule& s, double t) {
+  for (auto p = s.points.rbegin(); p != s.points.rend(); ++p)
+    if (p->first == t) return p->second;
+  return s.value(t);
+}
+
+}  // namespace
+
 double prepareScheduledStep(Simulator& sim, const std::vector<BoundSchedule>& schedules, long k,
                             double until) {
   double end = 0;
-  if (sim.model().settings.step_control == StepControl::Adaptive)
-    end = sim.planStep(std::min(until, nextScheduleCorner(schedules, sim.state().t)));
-  else
+  if (sim.model().settings.step_control == StepControl::Adaptive) {
+    // The step starts from the schedules' values just after its start (a jump at
+    // the start is taken at once, as a fixed step takes it), and is planned
+    // (which keeps them) to end at the next corner at the latest.
+    const double t = sim.state().t;
+    for (const BoundSchedule& b : schedules) sim.setCommand(b.actuator, valueAfter(b.schedule, t));
+    end = sim.planStep(std::min(until, nextScheduleCorner(schedules, t)));
+  } else {
     end = k * sim.model().settings.dt;
+  }
   applySchedules(schedules, end, sim);
   return end;
 }

@@ -24,7 +24,7 @@ Mode slotMode(double mu, const State& s, size_t slot) {
 }  // namespace
 
 double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
-                             double velocity_weight) {
+                             double velocity_weight, const std::vector<double>& rotation_length) {
   double worst = 0;
   auto take = [&](double x, double y) {
     const double scaled = std::abs(x - y) / (atol + rtol * std::max(std::abs(x), std::abs(y)));
@@ -35,17 +35,65 @@ double scaledStateDifference(const State& a, const State& b, double atol, double
   for (size_t i = 0; i < a.bodies.size(); ++i) {
     const BodyState& p = a.bodies[i];
     const BodyState& q = b.bodies[i];
-    const Vec3 wp = p.q * p.w, wq = q.q * q.w;
+    const double r = rotation_length[i];
+    const Vec3 wp = r * (p.q * p.w), wq = r * (q.q * q.w);
     for (int k = 0; k < 3; ++k) {
       take(p.x[k], q.x[k]);
       take(c * p.v[k], c * q.v[k]);
       take(c * wp[k], c * wq[k]);
     }
-    const double angle = logMap(p.q.conjugate() * q.q).norm();
-    const double scaled = angle / (atol + rtol);
+    // The turn between the orientations, as the arc it moves a point at r through.
+    const double angle = r * logMap(p.q.conjugate() * q.q).norm();
+    const double scaled = angle / (atol + rtol * r);
     worst = scaled <= worst ? worst : (std::isnan(scaled) ? INFINITY : scaled);
   }
   return worst;
+}
+
+namespace {
+
+// The farthest a point of the shape lies from its frame's origin (0: a plane).
+double shapeReach(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::Sphere:
+    case ShapeType::Ring: return s.radius;
+    case ShapeType::Capsule: return 0.5 * s.length + s.radius;
+    case ShapeType::Cylinder: return std::hypot(s.radius, 0.5 * s.length);
+    case ShapeType::Box:
+    case ShapeType::Face: return s.half_extents.norm();
+    case ShapeType::Plane: return 0;
+  }
+  return 0;
+}
+
+}  // namespace
+
+double rotationLength(const Model& m, int body) {
+  const Body& b = m.bodies[body];
+  const double r2 = 0.5 * b.inertia.trace() / b.mass;
+  double len = r2 > 0 && std::isfinite(r2) ? std::sqrt(r2) : 0;
+  auto reach = [&](int on, const Vec3& at, double extra) {
+    if (on == body) len = std::max(len, at.norm() + extra);
+  };
+  for (const Joint& j : m.joints) {
+    reach(j.body_a, j.anchor_a, 0);
+    reach(j.body_b, j.anchor_b, 0);
+  }
+  for (const ClearanceJoint& c : m.clearance_joints) {
+    const double extra = 0.5 * c.length + c.radius + c.radial;
+    reach(c.journal_body, c.journal_center, extra);
+    reach(c.bearing_body, c.bearing_center, extra);
+  }
+  for (const ContactPair& c : m.contacts) {
+    reach(c.a.body, c.a.pose.p, shapeReach(c.a));
+    reach(c.b.body, c.b.pose.p, shapeReach(c.b));
+  }
+  for (const Spring& s : m.springs)
+    if (s.type == SpringType::Linear) {
+      reach(s.body_a, s.end_a, 0);
+      reach(s.body_b, s.end_b, 0);
+    }
+  return len > 0 && std::isfinite(len) ? len : 1.0;
 }
 
 bool sameContactModes(const std::vector<double>& slot_mu, const State& a, const State& b) {
