@@ -6,6 +6,7 @@
 #   scripts/fuzz.sh TARGET SECONDS [OPT...]   one target for SECONDS (OPT: libFuzzer options)
 #   scripts/fuzz.sh --all SECONDS            every target for SECONDS each (CI)
 #   scripts/fuzz.sh --build                  only build
+# NSCD_FUZZ_OPT: the build's optimisation (default -O2; CI: -O1, a shorter build).
 # Prints the executions per second, the coverage (edges) and features reached;
 # exits non-zero if a target crashed, hung, leaked or a sanitizer or an oracle
 # fired (the input is kept in $NSCD_FUZZ_DIR/artifacts/TARGET/). The corpus grows
@@ -42,6 +43,7 @@ build() {  # TARGET...: configures and builds those this machine has the librari
   mkdir -p "$dir"
   CXX=${NSCD_FUZZ_CXX:-clang++-14} cmake -S "$repo/fuzz" -B "$dir/build" \
     ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER} \
+    -DNSCD_FUZZ_OPT="${NSCD_FUZZ_OPT:--O2}" \
     > "$dir/configure.log" 2>&1 || { tail -n 30 "$dir/configure.log"; echo "fuzz: configure failed"; exit 1; }
   local t known targets_to_build=(make_dictionaries)
   known=$(cmake --build "$dir/build" --target help 2>/dev/null)
@@ -115,9 +117,14 @@ case "${1:-}" in
   --all)
     [ $# -eq 2 ] || { echo "usage: $0 --all SECONDS"; exit 2; }
     build $all_targets
-    failed=0
-    for t in $built; do run "$t" "$2" || failed=1; done
-    exit $failed ;;
+    findings=""
+    for t in $built; do run "$t" "$2" || findings="$findings $t"; done
+    if [ -n "$findings" ]; then
+      echo "fuzz: FINDING in:$findings (inputs in $dir/artifacts/TARGET/)"
+      exit 1
+    fi
+    echo "fuzz: no finding ($(echo $built | wc -w) targets, $2 s each)"
+    exit 0 ;;
   ""|-h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
   *)
     [ $# -ge 2 ] || { echo "usage: $0 TARGET SECONDS [libFuzzer options]"; exit 2; }
