@@ -1,24 +1,15 @@
 // Fuzz target: the input of nscd_fclib --from-nscd, a problem file condensed into
 // a local FCLib problem (tools/fclib/condense_problem.cpp; the HDF5 writing that
-// follows needs FCLib and is not fuzzed). A file read is condensed without a crash
+// follows needs FCLib, docs/fuzzing.md). A file read is condensed without a crash
 // into a square problem of 3 rows per contact, one mu each.
 #include <cstdint>
-#include <stdexcept>
-#include <string>
 
 #include "condense_problem.hpp"
 #include "fuzz_support.hpp"
-#include "nscd_sim/problem_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string path = nscd_fuzz::scratchFile(data, size, ".txt");
   nscd::ProblemFile p;
-  try {
-    p = nscd::readProblemFile(path);
-  } catch (const std::runtime_error& e) {
-    nscd_fuzz::expectOneLine(e.what(), path);
-    return 0;
-  }
+  if (!nscd_fuzz::readProblemInput(data, size, p)) return 0;
   nscd_fclib::CondensedProblem c;
   if (!nscd_fclib::condenseProblem(p, c)) return 0;  // bilateral rows only: refused
   const Eigen::Index n = c.q.size();

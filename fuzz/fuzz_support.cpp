@@ -50,6 +50,22 @@ void expectOneLine(const std::string& message, const std::string& prefix) {
     fail("error message does not start with '" + prefix + "': [" + message + "]");
 }
 
+bool readProblemInput(const uint8_t* data, size_t size, nscd::ProblemFile& p) {
+  const std::string path = scratchFile(data, size, ".txt");
+  try {
+    p = nscd::readProblemFile(path);
+  } catch (const std::runtime_error& e) {
+    expectOneLine(e.what(), path);
+    return false;
+  }
+  const Eigen::Index m = p.b.size();
+  if (p.W.rows() != m || p.W.cols() != m || p.P_start.size() != m || p.P.size() != m)
+    fail("a problem read with inconsistent sizes");
+  for (const nscd::ProblemBlock& bl : p.blocks)
+    if (bl.row < 0 || bl.size < 1 || bl.row + bl.size > m) fail("a block outside the rows was read");
+  return true;
+}
+
 std::vector<std::string> lines(const uint8_t* data, size_t size) {
   std::vector<std::string> out;
   std::string cur;

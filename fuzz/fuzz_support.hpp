@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "nscd_sim/model.hpp"
+#include "nscd_sim/problem_file.hpp"
 
 namespace nscd_fuzz {
 
@@ -25,6 +26,12 @@ std::string scratchFile(const uint8_t* data, size_t size, const std::string& suf
 
 // A refusal's message: not empty, one line, starting with `prefix`.
 void expectOneLine(const std::string& message, const std::string& prefix);
+
+// The input as a problem file (what problem_file and fclib_from_nscd read): false
+// when readProblemFile refuses it (with one line naming the file, else aborts);
+// a problem read must be consistent (W square, b, P_start and P of its rows,
+// every block inside the rows), else aborts.
+bool readProblemInput(const uint8_t* data, size_t size, nscd::ProblemFile& problem);
 
 // The input's lines (without their '\n').
 std::vector<std::string> lines(const uint8_t* data, size_t size);

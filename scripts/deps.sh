@@ -38,7 +38,8 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   # The Python module (docs/python.md): pybind11-dev, python3-dev, python3-setuptools
   # (setup.py for catkin_python_setup); its tests: python3-pytest; studies on a Dask
   # cluster: python3-distributed. The libFuzzer targets (scripts/fuzz.sh, docs/fuzzing.md):
-  # clang-14 and its sanitizer/libFuzzer runtimes, libclang-rt-14-dev.
+  # clang-14 and its sanitizer/libFuzzer runtimes, libclang-rt-14-dev; FCLib and HDF5
+  # (libfclib-dev, libhdf5-dev): the fclib_reader target and tools/fclib's reader test.
   install_debs deps build-essential cmake pkg-config \
     ros-base-dev ros-desktop-dev librostest-dev python3-rostest rosbash \
     python3-roslaunch python3-rosservice python3-rostopic python3-rosbag python3-rosnode python3-rospy \
@@ -50,5 +51,5 @@ if [ "${BASH_SOURCE[0]}" = "$0" ]; then
     libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy \
     xvfb xauth x11-utils ffmpeg bc \
     pybind11-dev python3-dev python3-setuptools python3-pytest python3-distributed \
-    clang-14 libclang-rt-14-dev
+    clang-14 libclang-rt-14-dev libfclib-dev libhdf5-dev
 fi

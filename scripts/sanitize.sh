@@ -31,11 +31,16 @@ log=$ws/sanitize.log
 run_ctest() {  # REGEX, with the environment given
   (cd "$ws/build" && ctest --output-on-failure -j"${NSCD_TEST_JOBS:-2}" -R "$1" >> "$log" 2>&1) || true
 }
+# Leaks inside Debian's HDF5 on a damaged file are HDF5's (fuzz/lsan_suppressions.txt);
+# HDF5 asks for a damaged length's worth of memory (380 GB: tools/fclib/bad_files)
+# and copes with NULL, which ASan then returns instead of aborting.
+export LSAN_OPTIONS=suppressions=$repo/fuzz/lsan_suppressions.txt
+ours=detect_leaks=1:allocator_may_return_null=1
 if [ -n "$regex" ]; then
-  ASAN_OPTIONS=detect_leaks=1 run_ctest "$regex"
+  ASAN_OPTIONS=$ours run_ctest "$regex"
 else
   # Our executables: leaks checked too.
-  ASAN_OPTIONS=detect_leaks=1 run_ctest '_gtest_|rostest_test_ros_malformed_traffic'
+  ASAN_OPTIONS=$ours run_ctest '_gtest_|rostest_test_ros_malformed_traffic'
   # python3 loads the instrumented module: libasan first; Python's own lifetime
   # allocations are not leaks of ours.
   LD_PRELOAD=$libasan ASAN_OPTIONS=detect_leaks=0 run_ctest '^python_'

@@ -299,3 +299,20 @@ TEST(Stages, CommandScheduleOfHugeValuesStaysBetweenItsPoints) {
   EXPECT_NEAR(wide.value(0.5), 0.0, 1e293);
   EXPECT_EQ(wide.value(1.0), 1.7e308);
 }
+
+// Times of a few subnormal steps: (b - a) (t - t0) underflows and rounds, so the
+// usual form gave -0.667 at the schedule's own last time, past its value -0.5.
+// Found by fuzz/command_schedule_fuzzer.cpp (fuzz/regressions/command_schedule/
+// subnormal_times).
+TEST(Stages, CommandScheduleOfSubnormalTimesStaysBetweenItsPoints) {
+  const CommandSchedule s = parseCommandSchedule("m=0:0,14.9e-324:-0.5");
+  const double t1 = s.points.back().first;
+  ASSERT_GT(t1, 0.0);
+  for (int ulps = 0; ulps <= 4; ++ulps) {
+    const double t = ulps * 4.9406564584124654e-324;
+    const double v = s.value(t);
+    EXPECT_GE(v, -0.5) << ulps << " ulps";
+    EXPECT_LE(v, 0.0) << ulps << " ulps";
+  }
+  EXPECT_EQ(s.value(t1), -0.5);
+}

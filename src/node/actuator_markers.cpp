@@ -19,54 +19,13 @@ using visualization_msgs::InteractiveMarker;
 using visualization_msgs::InteractiveMarkerControl;
 using visualization_msgs::InteractiveMarkerFeedback;
 
-bool number(const XmlRpc::XmlRpcValue& v, double& out) {
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) out = static_cast<double>(v);
-  else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) out = static_cast<int>(v);
-  else return false;
-  return std::isfinite(out);
-}
-
-geometry_msgs::Quaternion toQuaternion(const nscd::Quat& q) {
-  geometry_msgs::Quaternion o;
-  o.w = q.w();
-  o.x = q.x();
-  o.y = q.y();
-  o.z = q.z();
-  return o;
-}
-
-geometry_msgs::Pose toPose(const nscd::Pose& p) {
-  geometry_msgs::Pose o;
-  o.position = toPoint(p.p);
-  o.orientation = toQuaternion(p.q);
-  return o;
-}
-
-nscd::Pose fromPose(const geometry_msgs::Pose& p) {
-  nscd::Pose o;
-  o.p = nscd::Vec3(p.position.x, p.position.y, p.position.z);
-  o.q = nscd::Quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-  if (!(o.q.norm() > 0)) o.q = nscd::Quat::Identity();
-  o.q.normalize();
-  return o;
-}
-
-std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
-  std_msgs::ColorRGBA c;
-  c.r = r;
-  c.g = g;
-  c.b = b;
-  c.a = a;
-  return c;
-}
-
 }  // namespace
 
 ActuatorMarkersOptions readActuatorMarkersOptions(const ros::NodeHandle& pnh) {
   ActuatorMarkersOptions o;
   pnh.param("sim_node", o.sim_node, o.sim_node);
   XmlRpc::XmlRpcValue v;
-  if (pnh.getParam("text_size", v) && !(number(v, o.text_size) && o.text_size > 0))
+  if (pnh.getParam("text_size", v) && !(paramNumber(v, o.text_size) && o.text_size > 0))
     throw nscd::SceneError("parameter " + pnh.resolveName("text_size") + ": expected a positive number (m)");
   const std::string where = "parameter " + pnh.resolveName("actuators");
   const std::string form = "expected {NAME: {min: MIN, max: MAX}, ...}, optionally with scale (m), "
@@ -79,18 +38,18 @@ ActuatorMarkersOptions readActuatorMarkersOptions(const ros::NodeHandle& pnh) {
     XmlRpc::XmlRpcValue& e = it->second;
     const std::string at = where + "/" + c.actuator;
     if (e.getType() != XmlRpc::XmlRpcValue::TypeStruct || !e.hasMember("min") || !e.hasMember("max") ||
-        !number(e["min"], c.range.min) || !number(e["max"], c.range.max))
+        !paramNumber(e["min"], c.range.min) || !paramNumber(e["max"], c.range.max))
       throw nscd::SceneError(at + ": " + form);
     if (!(c.range.min < c.range.max))
       throw nscd::SceneError(at + ": min must be below max, got [" + std::to_string(c.range.min) +
                              ", " + std::to_string(c.range.max) + "]");
-    if (e.hasMember("scale") && !(number(e["scale"], c.scale) && c.scale > 0))
+    if (e.hasMember("scale") && !(paramNumber(e["scale"], c.scale) && c.scale > 0))
       throw nscd::SceneError(at + "/scale: expected a positive number (m)");
     if (e.hasMember("text_offset")) {
       XmlRpc::XmlRpcValue& t = e["text_offset"];
       double right = NAN, up = NAN;
-      if (t.getType() != XmlRpc::XmlRpcValue::TypeArray || t.size() != 2 || !number(t[0], right) ||
-          !number(t[1], up))
+      if (t.getType() != XmlRpc::XmlRpcValue::TypeArray || t.size() != 2 || !paramNumber(t[0], right) ||
+          !paramNumber(t[1], up))
         throw nscd::SceneError(at + "/text_offset: expected [RIGHT, UP] (m on the screen from the marker)");
       c.text_offset = {right, up};
     }

@@ -15,15 +15,6 @@ using visualization_msgs::Marker;
 constexpr int kCircleSegments = 48;
 constexpr double kMaxDrawnEcc = 1.5;  // eccentricity arrows: at most 1.5 ring radii
 
-std_msgs::ColorRGBA color(float r, float g, float b, float a = 1.0f) {
-  std_msgs::ColorRGBA c;
-  c.r = r;
-  c.g = g;
-  c.b = b;
-  c.a = a;
-  return c;
-}
-
 Marker makeMarker(const MarkerStyle& style, const ros::Time& stamp, const char* ns, int id,
                   int type) {
   Marker m;
@@ -113,13 +104,13 @@ void buildContactMarkers(const std::vector<nscd::ContactReport>& contacts,
   out.markers.push_back(clear);
 
   // Not red: RViz draws URDF visuals without a material in red.
-  const std_msgs::ColorRGBA green = color(0.1f, 0.9f, 0.2f);
-  const std_msgs::ColorRGBA blue = color(0.15f, 0.45f, 1.0f);
-  const std_msgs::ColorRGBA yellow = color(1.0f, 0.85f, 0.1f);
-  const std_msgs::ColorRGBA white = color(0.95f, 0.95f, 0.95f);
-  const std_msgs::ColorRGBA grey = color(0.75f, 0.75f, 0.75f, 0.9f);
-  const std_msgs::ColorRGBA cyan = color(0.1f, 0.9f, 0.9f);
-  const std_msgs::ColorRGBA magenta = color(1.0f, 0.2f, 1.0f);
+  const std_msgs::ColorRGBA green = rgba(0.1f, 0.9f, 0.2f);
+  const std_msgs::ColorRGBA blue = rgba(0.15f, 0.45f, 1.0f);
+  const std_msgs::ColorRGBA yellow = rgba(1.0f, 0.85f, 0.1f);
+  const std_msgs::ColorRGBA white = rgba(0.95f, 0.95f, 0.95f);
+  const std_msgs::ColorRGBA grey = rgba(0.75f, 0.75f, 0.75f, 0.9f);
+  const std_msgs::ColorRGBA cyan = rgba(0.1f, 0.9f, 0.9f);
+  const std_msgs::ColorRGBA magenta = rgba(1.0f, 0.2f, 1.0f);
   const double label_h = style.label_size > 0 ? style.label_size : 3 * style.size;
   const auto lifted = [&style](nscd::Vec3 p) {
     if (style.have_marker_z) p.z() = style.marker_z;
@@ -256,7 +247,7 @@ void appendEventMarkers(const std::vector<EventLabel>& events, const MarkerStyle
     m.pose.position.y = text.position.y() - text.height * (6.5 + 1.6 * k);
     m.pose.position.z = text.position.z();
     m.scale.z = text.height;
-    m.color = color(1.0f, 0.6f, 0.1f);
+    m.color = rgba(1.0f, 0.6f, 0.1f);
     std::snprintf(buf, sizeof buf, "%s  t = %.3f ms", events[k].label.c_str(), 1e3 * events[k].time);
     m.text = buf;
     out.markers.push_back(m);

@@ -117,12 +117,10 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   if (numberParamChecked(pnh, "label_size", x, true, error)) o.markers.label_size = x;
   else ROS_WARN("%s (text height, m); the default (3 marker_size) is used", error.c_str());
   if (pnh.hasParam("marker_z")) {
-    x = 0;
     XmlRpc::XmlRpcValue z;
     pnh.getParam("marker_z", z);
-    if (z.getType() == XmlRpc::XmlRpcValue::TypeDouble || z.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    if (paramNumber(z, o.markers.marker_z)) {
       o.markers.have_marker_z = true;
-      o.markers.marker_z = z.getType() == XmlRpc::XmlRpcValue::TypeInt ? double(int(z)) : double(z);
     } else {
       ROS_WARN("parameter %s: expected a number (m, world z of the eccentricity markers and labels); "
                "they stay at the bearings' own height", pnh.resolveName("marker_z").c_str());
@@ -170,10 +168,9 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   if (pnh.getParam("overlay_position", ov)) {
     bool ok = ov.getType() == XmlRpc::XmlRpcValue::TypeArray && ov.size() == 3;
     for (int i = 0; ok && i < 3; ++i) {
-      ok = ov[i].getType() == XmlRpc::XmlRpcValue::TypeDouble || ov[i].getType() == XmlRpc::XmlRpcValue::TypeInt;
-      if (ok) o.overlay_position.push_back(ov[i].getType() == XmlRpc::XmlRpcValue::TypeInt
-                                               ? double(static_cast<int>(ov[i]))
-                                               : static_cast<double>(ov[i]));
+      double x = 0;
+      ok = paramNumber(ov[i], x);
+      if (ok) o.overlay_position.push_back(x);
     }
     if (!ok)
       throw nscd::SceneError("parameter " + pnh.resolveName("overlay_position") +
@@ -187,9 +184,7 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
     for (auto it = v.begin(); it != v.end(); ++it) {
       XmlRpc::XmlRpcValue& r = it->second;
       double rate = NAN;
-      if (r.getType() == XmlRpc::XmlRpcValue::TypeDouble) rate = static_cast<double>(r);
-      else if (r.getType() == XmlRpc::XmlRpcValue::TypeInt) rate = static_cast<int>(r);
-      if (!(std::isfinite(rate) && rate > 0))
+      if (!(paramNumber(r, rate) && rate > 0))
         throw nscd::SceneError(where + "/" + it->first + ": expected a positive number (command units per second)");
       o.command_rate_limits.emplace_back(it->first, rate);
     }

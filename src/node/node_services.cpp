@@ -12,10 +12,17 @@
 
 namespace nscd_node {
 
+std::string stepCountRefusal(uint32_t count) {
+  if (count <= kMaxStepsPerCall) return "";
+  return "~step with count " + std::to_string(count) + " refused: at most " + std::to_string(kMaxStepsPerCall) +
+         " steps a call may take (the node serves nothing else while it steps); call again for more";
+}
+
 NodeServices::NodeServices(ros::NodeHandle& nh, ros::NodeHandle& pnh, SimSession& session,
                            MarkerStyle& style)
     : pnh_(pnh), session_(session), style_(style) {
   const nscd::Model& model = session_.sim().model();
+  command_throttles_.resize(model.actuators.size());
   for (size_t i = 0; i < model.actuators.size(); ++i) {
     const std::string& name = model.actuators[i].name;
     std::string why;
@@ -50,7 +57,7 @@ void NodeServices::onCommand(int actuator, double value) {
       ROS_INFO("nscd_sim_node: %s/command takes over from the schedule of '%s' (until ~reset)",
                pnh_.resolveName(name).c_str(), name.c_str());
   }
-  if (!accepted && command_throttle_.ready(1.0))
+  if (!accepted && command_throttles_[actuator].ready(1.0))
     ROS_WARN("nscd_sim_node: ignored command %g on %s/command (not a finite number)", value,
              pnh_.resolveName(name).c_str());
 }
@@ -82,6 +89,18 @@ bool NodeServices::onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::R
 }
 
 bool NodeServices::onStep(nscd_sim::Step::Request& req, nscd_sim::Step::Response& res) {
+  const std::string refusal = stepCountRefusal(req.count);
+  if (!refusal.empty()) {
+    {
+      const auto lock = session_.callbackLock();
+      res.sim_time = session_.sim().state().t;
+    }
+    res.success = false;
+    res.steps_taken = 0;
+    res.message = refusal;
+    if (step_refusal_throttle_.ready(10.0)) ROS_WARN("nscd_sim_node: %s", refusal.c_str());
+    return true;
+  }
   const uint32_t count = std::max<uint32_t>(1, req.count);
   {
     const auto lock = session_.callbackLock();
@@ -98,7 +117,8 @@ bool NodeServices::onStep(nscd_sim::Step::Request& req, nscd_sim::Step::Response
   return true;
 }
 
-// Warns about <node>/X/command topics with no actuator X (a typo goes nowhere).
+// Warns about <node>/X/command topics with no actuator X (a typo goes nowhere),
+// once per name, naming at most kMaxUnknownTopicsNamed of them.
 void NodeServices::checkCommandTopics(const ros::WallTimerEvent&) {
   ros::master::V_TopicInfo topics;
   if (!ros::master::getTopics(topics)) return;
@@ -110,9 +130,17 @@ void NodeServices::checkCommandTopics(const ros::WallTimerEvent&) {
         n.compare(n.size() - suffix.size(), suffix.size(), suffix))
       continue;
     const std::string name = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
-    if (!actuator_names_.count(name) && unknown_topic_throttle_.ready(10.0))
+    if (actuator_names_.count(name) || unknown_topics_warned_.count(name)) continue;
+    if (unknown_topics_warned_.size() < kMaxUnknownTopicsNamed) {
+      unknown_topics_warned_.insert(name);
       ROS_WARN("nscd_sim_node: %s is published but the scene has no actuator '%s'", n.c_str(),
                name.c_str());
+    } else if (!unknown_topics_overflowed_) {
+      unknown_topics_overflowed_ = true;
+      ROS_WARN("nscd_sim_node: %zu command topics without an actuator named so far; more command "
+               "topics without an actuator (as %s) are not named",
+               kMaxUnknownTopicsNamed, n.c_str());
+    }
   }
 }
 

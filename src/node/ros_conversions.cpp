@@ -1,36 +1,75 @@
 #include "ros_conversions.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 namespace nscd_node {
+namespace {
 
-geometry_msgs::Point toPoint(const nscd::Vec3& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
+template <class Msg>
+Msg xyzMsg(const nscd::Vec3& v) {
+  Msg m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
 }
 
-geometry_msgs::Vector3 toVector3(const nscd::Vec3& v) {
-  geometry_msgs::Vector3 p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
+}  // namespace
+
+geometry_msgs::Point toPoint(const nscd::Vec3& v) { return xyzMsg<geometry_msgs::Point>(v); }
+geometry_msgs::Vector3 toVector3(const nscd::Vec3& v) { return xyzMsg<geometry_msgs::Vector3>(v); }
+
+geometry_msgs::Quaternion toQuaternion(const nscd::Quat& q) {
+  geometry_msgs::Quaternion o;
+  o.w = q.w();
+  o.x = q.x();
+  o.y = q.y();
+  o.z = q.z();
+  return o;
+}
+
+geometry_msgs::Pose toPose(const nscd::Pose& pose) {
+  geometry_msgs::Pose o;
+  o.position = toPoint(pose.p);
+  o.orientation = toQuaternion(pose.q);
+  return o;
 }
 
 geometry_msgs::Transform toTransform(const nscd::Pose& pose) {
   geometry_msgs::Transform t;
   t.translation = toVector3(pose.p);
-  const nscd::Quat q = pose.q.normalized();
-  t.rotation.w = q.w();
-  t.rotation.x = q.x();
-  t.rotation.y = q.y();
-  t.rotation.z = q.z();
+  t.rotation = toQuaternion(pose.q.normalized());
   return t;
+}
+
+nscd::Pose fromPose(const geometry_msgs::Pose& pose) {
+  nscd::Pose o;
+  o.p = nscd::Vec3(pose.position.x, pose.position.y, pose.position.z);
+  o.q = nscd::Quat(pose.orientation.w, pose.orientation.x, pose.orientation.y, pose.orientation.z);
+  if (!(o.q.norm() > 0) || !std::isfinite(o.q.norm())) o.q = nscd::Quat::Identity();
+  o.q.normalize();
+  return o;
+}
+
+std_msgs::ColorRGBA rgba(float r, float g, float b, float a) {
+  std_msgs::ColorRGBA c;
+  c.r = r;
+  c.g = g;
+  c.b = b;
+  c.a = a;
+  return c;
+}
+
+bool paramNumber(const XmlRpc::XmlRpcValue& v, double& out) {
+  double x = NAN;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) x = static_cast<const double&>(v);
+  else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) x = static_cast<const int&>(v);
+  if (!std::isfinite(x)) return false;
+  out = x;
+  return true;
 }
 
 const std::string& bodyLinkName(const nscd::Model& model, int body) {

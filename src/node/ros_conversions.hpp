@@ -7,9 +7,12 @@
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
 #include <geometry_msgs/Point.h>
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Quaternion.h>
 #include <geometry_msgs/Transform.h>
 #include <geometry_msgs/Vector3.h>
 #include <ros/node_handle.h>
+#include <std_msgs/ColorRGBA.h>
 
 #include "nscd_sim/Contact.h"
 #include "nscd_sim/model.hpp"
@@ -20,7 +23,15 @@ namespace nscd_node {
 
 geometry_msgs::Point toPoint(const nscd::Vec3& v);
 geometry_msgs::Vector3 toVector3(const nscd::Vec3& v);
-geometry_msgs::Transform toTransform(const nscd::Pose& pose);
+geometry_msgs::Quaternion toQuaternion(const nscd::Quat& q);  // as it is (not normalised)
+geometry_msgs::Pose toPose(const nscd::Pose& pose);           // as it is (not normalised)
+geometry_msgs::Transform toTransform(const nscd::Pose& pose); // the rotation normalised
+// A pose from ROS (an interactive marker's feedback): the quaternion normalised, the
+// identity if it has no finite length above 0.
+nscd::Pose fromPose(const geometry_msgs::Pose& pose);
+
+// A marker colour (components 0..1).
+std_msgs::ColorRGBA rgba(float r, float g, float b, float a = 1.0f);
 
 // The stamp of a message about sim time `sim_t`: that time with /use_sim_time,
 // else the wall clock's now.
@@ -38,6 +49,10 @@ void toContactMsg(const nscd::Model& model, const nscd::ContactReport& c, nscd_s
 // (lists become space-separated, e.g. gravity: [0, 0, -9.81] -> "0 0 -9.81").
 // False if the value has a type no setting can take (struct, binary, ...).
 bool paramToString(const XmlRpc::XmlRpcValue& value, std::string& out);
+
+// A parameter value that is an integer or a finite double, as a double; false for
+// anything else (a string, a boolean, NaN, +-inf, ...).
+bool paramNumber(const XmlRpc::XmlRpcValue& value, double& out);
 
 // "an integer", "a string", ...: a parameter value's type, for error messages.
 std::string paramTypeName(const XmlRpc::XmlRpcValue& value);

@@ -391,6 +391,50 @@ TEST(RosConversions, TransformIsUnitQuaternion) {
   EXPECT_DOUBLE_EQ(t.rotation.w, 1.0);
 }
 
+// toPose copies the pose as it is; fromPose (an interactive marker's feedback)
+// gives a unit quaternion, the identity when the message's has no finite length.
+TEST(RosConversions, PosesBothWays) {
+  nscd::Pose p;
+  p.p = {1, -2, 3};
+  p.q = nscd::Quat(Eigen::AngleAxisd(0.3, nscd::Vec3::UnitZ()));
+  const geometry_msgs::Pose m = nscd_node::toPose(p);
+  EXPECT_EQ(m.position.y, -2.0);
+  EXPECT_EQ(m.orientation.z, p.q.z());
+  const nscd::Pose back = nscd_node::fromPose(m);
+  EXPECT_EQ(back.p, p.p);
+  EXPECT_NEAR(back.q.angularDistance(p.q), 0.0, 1e-15);
+  geometry_msgs::Pose bad = m;
+  bad.orientation.w = bad.orientation.x = bad.orientation.y = bad.orientation.z = 0;
+  EXPECT_TRUE(nscd_node::fromPose(bad).q.isApprox(nscd::Quat::Identity()));
+  for (const double x : {double(NAN), double(INFINITY), 1e300}) {  // 1e300: the norm overflows
+    bad.orientation.w = x;
+    const nscd::Quat q = nscd_node::fromPose(bad).q;
+    EXPECT_TRUE(q.coeffs().allFinite()) << x;
+    EXPECT_NEAR(q.norm(), 1.0, 1e-15) << x;
+  }
+  const std_msgs::ColorRGBA c = nscd_node::rgba(0.1f, 0.2f, 0.3f);
+  EXPECT_EQ(c.b, 0.3f);
+  EXPECT_EQ(c.a, 1.0f);
+}
+
+// Numbers in parameters: integers and finite doubles; NaN, inf, strings, booleans
+// and lists are not numbers (the caller warns or refuses, the output untouched).
+TEST(RosConversions, ParamNumberTakesFiniteIntegersAndDoubles) {
+  double x = -7;
+  EXPECT_TRUE(nscd_node::paramNumber(XmlRpc::XmlRpcValue(3), x));
+  EXPECT_EQ(x, 3.0);
+  EXPECT_TRUE(nscd_node::paramNumber(XmlRpc::XmlRpcValue(-0.25), x));
+  EXPECT_EQ(x, -0.25);
+  XmlRpc::XmlRpcValue list;
+  list[0] = 1.0;
+  for (const XmlRpc::XmlRpcValue& v : {XmlRpc::XmlRpcValue(NAN), XmlRpc::XmlRpcValue(INFINITY),
+                                      XmlRpc::XmlRpcValue(-INFINITY), XmlRpc::XmlRpcValue("1.5"),
+                                      XmlRpc::XmlRpcValue(true), list, XmlRpc::XmlRpcValue()}) {
+    EXPECT_FALSE(nscd_node::paramNumber(v, x));
+    EXPECT_EQ(x, -0.25) << "written on a refusal";
+  }
+}
+
 TEST(RosConversions, ParamStringsAsTheCommandLineWritesThem) {
   std::string s;
   EXPECT_TRUE(nscd_node::paramToString(XmlRpc::XmlRpcValue(1e-4), s));

@@ -38,7 +38,9 @@ extern "C" {
 #include <string>
 #include <vector>
 
+#include "compressed_matrix.hpp"
 #include "condense_problem.hpp"
+#include "read_fclib_problem.hpp"
 #include "nscd_sim/friction_contact_solver.hpp"
 #include "nscd_sim/problem_file.hpp"
 
@@ -54,64 +56,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A local problem: U = W r + q, contacts of `dim` rows (normal first).
-struct LocalProblem {
-  std::string name;
-  int dim = 3;
-  int contacts = 0;
-  Eigen::MatrixXd W;
-  Eigen::VectorXd q;
-  std::vector<double> mu;
-};
+using nscd_fclib::LocalProblem;
 
-Eigen::MatrixXd toDense(const fclib_matrix* A) {
-  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(A->m, A->n);
-  if (A->nz == -1) {  // compressed columns
-    for (int j = 0; j < A->n; ++j)
-      for (int k = A->p[j]; k < A->p[j + 1]; ++k) D(A->i[k], j) += A->x[k];
-  } else {  // triplets: p holds the column indices
-    for (int k = 0; k < A->nz; ++k) D(A->i[k], A->p[k]) += A->x[k];
-  }
-  return D;
-}
-
+// Reads `path` (read_fclib_problem.hpp); false after one line naming it and what is wrong.
 bool readProblem(const char* path, LocalProblem& out) {
-  out.name = path;
-  const char* slash = std::strrchr(path, '/');
-  if (slash) out.name = slash + 1;
-  if (fclib_local* lp = fclib_read_local(path)) {
-    out.dim = lp->spacedim;
-    out.W = toDense(lp->W);
-    out.contacts = static_cast<int>(out.W.rows()) / out.dim;
-    out.q = Eigen::Map<Eigen::VectorXd>(lp->q, out.W.rows());
-    out.mu.assign(lp->mu, lp->mu + out.contacts);
-    const bool extra = lp->V || lp->R;
-    fclib_delete_local(lp);
-    std::free(lp);
-    if (extra) std::fprintf(stderr, "%s: V/R (bilateral part) ignored\n", path);
-    return true;
+  std::string error;
+  if (!nscd_fclib::readFclibProblem(path, out, error)) {
+    std::fprintf(stderr, "%s: not a usable FCLib problem: %s\n", path, error.c_str());
+    return false;
   }
-  if (fclib_global* gp = fclib_read_global(path)) {
-    // M v = H r + f, U = H^T v + w  ->  W = H^T M^-1 H, q = H^T M^-1 f + w.
-    out.dim = gp->spacedim;
-    const Eigen::MatrixXd M = toDense(gp->M), H = toDense(gp->H);
-    const Eigen::LLT<Eigen::MatrixXd> llt(M);
-    const Eigen::VectorXd f = Eigen::Map<Eigen::VectorXd>(gp->f, M.rows());
-    const Eigen::VectorXd w = Eigen::Map<Eigen::VectorXd>(gp->w, H.cols());
-    out.W = H.transpose() * llt.solve(H);
-    out.q = H.transpose() * llt.solve(f) + w;
-    out.contacts = static_cast<int>(H.cols()) / out.dim;
-    out.mu.assign(gp->mu, gp->mu + out.contacts);
-    const bool eq = gp->G != nullptr;
-    fclib_delete_global(gp);
-    std::free(gp);
-    if (eq) {
-      std::fprintf(stderr, "%s: global problem with equality constraints (G): not supported\n", path);
-      return false;
-    }
-    return true;
-  }
-  return false;
+  if (out.bilateral_ignored) std::fprintf(stderr, "%s: V/R (bilateral part) ignored\n", path);
+  return true;
 }
 
 // Our block layout; a 2D problem becomes 3D with a decoupled, inert second tangent.
@@ -209,7 +164,7 @@ double siconosMeasure(double err_ours, double qnorm) {
   return qnorm > 0 ? err_ours * std::max(1.0, qnorm) / qnorm : err_ours;
 }
 
-double ourError(const LocalProblem& p, const Eigen::VectorXd& r) {
+[[maybe_unused]] double ourError(const LocalProblem& p, const Eigen::VectorXd& r) {  // Siconos builds only
   Eigen::MatrixXd W;
   Eigen::VectorXd b;
   std::vector<nscd::ProblemBlock> blocks;
@@ -262,23 +217,7 @@ int writeLocal(const Eigen::MatrixXd& Wd, const Eigen::VectorXd& q, std::vector<
                const char* out, const std::string& title, const std::string& descr,
                const std::string& math) {
   const int n = static_cast<int>(q.size());
-  std::vector<int> colp(n + 1, 0), rowi;
-  std::vector<double> val;
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i)
-      if (Wd(i, j) != 0) {
-        rowi.push_back(i);
-        val.push_back(Wd(i, j));
-      }
-    colp[j + 1] = static_cast<int>(rowi.size());
-  }
-  fclib_matrix W{};
-  W.nzmax = static_cast<int>(val.size());
-  W.m = W.n = n;
-  W.p = colp.data();
-  W.i = rowi.data();
-  W.x = val.data();
-  W.nz = -1;
+  nscd_fclib::CompressedMatrix W(Wd);
   fclib_info info{};
   std::string t = title, d = descr, m = math;
   info.title = &t[0];
@@ -286,7 +225,7 @@ int writeLocal(const Eigen::MatrixXd& Wd, const Eigen::VectorXd& q, std::vector<
   info.math_info = &m[0];
   std::vector<double> qv(q.data(), q.data() + n);
   fclib_local lp{};
-  lp.W = &W;
+  lp.W = &W.matrix;
   lp.mu = mu.data();
   lp.q = qv.data();
   lp.spacedim = 3;
@@ -296,7 +235,7 @@ int writeLocal(const Eigen::MatrixXd& Wd, const Eigen::VectorXd& q, std::vector<
     std::fprintf(stderr, "%s: fclib_write_local failed\n", out);
     return 1;
   }
-  std::printf("-> %s (%d contacts, %d non-zeros)\n", out, n / 3, W.nzmax);
+  std::printf("-> %s (%d contacts, %d non-zeros)\n", out, n / 3, W.matrix.nzmax);
   return 0;
 }
 
@@ -345,10 +284,7 @@ int convert(const char* in, const char* out, const std::string& title, const std
 
 int toNscd(const char* in, const char* out) {
   LocalProblem p;
-  if (!readProblem(in, p)) {
-    std::fprintf(stderr, "%s: not a readable FCLib local or global problem\n", in);
-    return 1;
-  }
+  if (!readProblem(in, p)) return 1;
   Eigen::MatrixXd W;
   Eigen::VectorXd b;
   std::vector<nscd::ProblemBlock> blocks;
@@ -447,7 +383,6 @@ int main(int argc, char** argv) {
   for (const char* path : files) {
     LocalProblem p;
     if (!readProblem(path, p)) {
-      std::fprintf(stderr, "%s: not a readable FCLib local or global problem\n", path);
       ++failures;
       continue;
     }

@@ -1,6 +1,7 @@
 // Piecewise-linear command schedules, and their binding to a model's actuators.
 #include "nscd_sim/command_schedule.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
@@ -20,12 +21,14 @@ double CommandSchedule::value(double t) const {
       const auto& b = points[i];
       const double span = b.first - a.first;
       if (span <= 0) return b.second;
+      const double lo = std::min(a.second, b.second), hi = std::max(a.second, b.second);
       const double v = a.second + (b.second - a.second) * (t - a.first) / span;
-      if (std::isfinite(v)) return v;
-      // Values near the largest double: the difference overflows, the convex
-      // combination cannot (and the usual form keeps every other run bit for bit).
+      if (v >= lo && v <= hi) return v;
+      // Values near the largest double (the difference overflows) or times a few
+      // subnormal steps apart (the product rounds past b): the convex combination,
+      // kept between the two values. The usual form keeps other runs bit for bit.
       const double s = (t - a.first) / span;
-      return a.second * (1 - s) + b.second * s;
+      return std::clamp(a.second * (1 - s) + b.second * s, lo, hi);
     }
   }
   return points.back().second;
