@@ -1,5 +1,5 @@
-// Dense kernels (dense_kernels.hpp): pivoted Cholesky and LU with partial
-// pivoting, in place, no allocation.
+// Dense kernels (dense_kernels.hpp): pivoted Cholesky, pivoted LDL^T and LU with
+// partial pivoting, in place, no allocation.
 #include "dense_kernels.hpp"
 
 #include <cmath>
@@ -58,6 +58,63 @@ void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* p
     tmp[k] = s / l(k, k);
   }
   for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
+}
+
+namespace {
+
+// Rows and columns k < p of a symmetric matrix swapped, in its lower triangle.
+void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int c = 0; c < k; ++c) std::swap(a(k, c), a(p, c));
+  std::swap(a(k, k), a(p, p));
+  for (int i = k + 1; i < p; ++i) std::swap(a(i, k), a(p, i));
+  for (int r = p + 1; r < n; ++r) std::swap(a(r, k), a(r, p));
+}
+
+}  // namespace
+
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm) {
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (a(i, i) > a(p, p)) p = i;
+    if (!(a(p, p) > dropTol)) return k;
+    if (p != k) {
+      swapSymmetricLower(A, ld, n, k, p);
+      std::swap(perm[k], perm[p]);
+    }
+    const double d = a(k, k);
+    const double* ck = &a(0, k);
+    // Trailing update A22 -= v v^T / d (v: column k below the pivot), lower part.
+    for (int j = k + 1; j < n; ++j) {
+      const double s = ck[j] / d;
+      if (s == 0) continue;
+      double* cj = &a(0, j);
+      for (int i = j; i < n; ++i) cj[i] -= ck[i] * s;
+    }
+    for (int i = k + 1; i < n; ++i) a(i, k) /= d;
+  }
+  return n;
+}
+
+void pivotedLdltSolve(const double* L, int ld, int n, int rank, const int* perm, double* x, double* tmp) {
+  auto l = [&](int i, int j) { return L[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < rank; ++k) tmp[k] = x[perm[k]];
+  for (int k = 0; k < rank; ++k) {  // L z = y
+    const double zk = tmp[k];
+    if (zk != 0)
+      for (int i = k + 1; i < rank; ++i) tmp[i] -= l(i, k) * zk;
+  }
+  for (int k = 0; k < rank; ++k) tmp[k] /= l(k, k);  // D
+  for (int k = rank - 1; k >= 0; --k) {  // L^T x = z
+    double s = tmp[k];
+    for (int i = k + 1; i < rank; ++i) s -= l(i, k) * tmp[i];
+    tmp[k] = s;
+  }
+  for (int k = rank; k < n; ++k) x[perm[k]] = 0;
+  for (int k = 0; k < rank; ++k) x[perm[k]] = tmp[k];
 }
 
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a

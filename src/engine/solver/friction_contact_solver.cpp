@@ -1,7 +1,8 @@
 // The friction-contact solver's front: checks the problem, answers a single
 // contact by the local solver alone, sets up the buffers and the problem
-// (problem_setup.cpp), runs the schedule of stages (solver_schedule.cpp) and
-// reports; and the Siconos-style error.
+// (problem_setup.cpp; a problem of bilateral rows only as the linear system it
+// is), runs the schedule of stages (solver_schedule.cpp) and reports; and the
+// Siconos-style error.
 #include "nscd_sim/friction_contact_solver.hpp"
 
 #include <algorithm>
@@ -48,6 +49,12 @@ double blockError2(const ProblemBlock& bl, const double* P, const double* U) {
     }
   }
   return 0;
+}
+
+bool allBilateral(const std::vector<ProblemBlock>& blocks) {
+  for (const ProblemBlock& bl : blocks)
+    if (bl.kind != BlockKind::Bilateral) return false;
+  return true;
 }
 
 bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
@@ -148,7 +155,7 @@ void finishRun(SolveRun& run, bool ok) {
 }
 
 constexpr const char* kStageNames[kSolverStageCount] = {
-    "no_rows",        "local_solver",    "warm_start",      "sweeps",          "newton",
+    "no_rows",        "local_solver",    "equalities",      "warm_start",      "sweeps",          "newton",
     "newton_from_zero", "newton_from_warm", "newton_retry",  "proximal_trial",  "sweeps_to_budget",
     "proximal_newton", "long_newton",    "cone_fixed_point", "unsolved",       "failed"};
 
@@ -193,6 +200,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
                                           Eigen::Ref<Eigen::VectorXd> P) {
   SolverReport rep;
   rep.residual = INFINITY;
+  buffers_.equalityFactorRows = 0;  // whatever this solve does, the last factor goes
   const int m = problemRows(blocks);
   if (m == 0) {
     rep.residual = 0;
@@ -204,6 +212,17 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   if (solveSingleContact(W, b, blocks, options, P, rep)) return rep;
   double maxDiag = 0;
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
+  const bool equalityOnly =
+      allBilateral(blocks) && !(options.skip_stages >> static_cast<int>(SolverStage::Equalities) & 1);
+  if (equalityOnly) {  // a linear system: its factor is the solve (no warm start needed)
+    growBuffers(buffers_, m, false);
+    SolveRun run(W, b, blocks, options, P, buffers_, m);
+    run.problem.equalityOnly = true;
+    prepareEqualityProblem(run.problem, maxDiag);
+    buffers_.equalityFactorRows = m;
+    finishRun(run, solveBySchedule(run));
+    return run.rep;
+  }
   if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
   growBuffers(buffers_, m, scheduleUsesNewton(options.method, m));
 
@@ -221,6 +240,14 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   }
   finishRun(run, solveBySchedule(run));
   return run.rep;
+}
+
+bool FrictionContactSolver::solveEqualitiesAgain(const Eigen::Ref<const Eigen::VectorXd>& b,
+                                                 Eigen::Ref<Eigen::VectorXd> P) {
+  const int m = int(P.size());
+  if (m == 0 || m != buffers_.equalityFactorRows || b.size() < m) return false;
+  solveByEqualityFactor(buffers_, m, b.data(), P.data());
+  return true;
 }
 
 }  // namespace nscd
