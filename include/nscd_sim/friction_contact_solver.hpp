@@ -7,14 +7,15 @@
 // b already holds the restitution term of the Newton impact law.
 // Solved by a schedule of stages (src/engine/solver/solver_schedule.cpp,
 // docs/solver.md). A problem of bilateral rows only (ideal joints; the
-// position projection's joint rows) is a linear system: one pivoted LDLᵀ of W
-// solves it (SolverStage::Equalities). Any other: nonsmooth Gauss-Seidel (NSGS) sweeps over the blocks with an
-// exact local solver per block, warm-started from the P passed in (all
-// Bilateral rows assembled into one equality block solved exactly in each
-// sweep); a global semismooth Newton on the Alart-Curnier function when the
-// sweeps converge slowly; and, for what they leave unsolved, the proximal
-// Newton, a long Newton and the cone fixed point. SolverReport::stage names
-// the stage that gave the answer.
+// position projection's joint rows) is a linear system: one LDLᵀ of W
+// solves it (SolverStage::Equalities; rows so nearly dependent that it leaves
+// them unsolved go on to the general schedule). Any other: nonsmooth
+// Gauss-Seidel (NSGS) sweeps over the blocks with an exact local solver per
+// block, warm-started from the P passed in (all Bilateral rows assembled into
+// one equality block solved exactly in each sweep); a global semismooth Newton
+// on the Alart-Curnier function when the sweeps converge slowly; and, for what
+// they leave unsolved, the proximal Newton, a long Newton and the cone fixed
+// point. SolverReport::stage names the stage that gave the answer.
 #pragma once
 
 #include <cstdint>
@@ -62,7 +63,7 @@ enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
 enum class SolverStage : std::uint8_t {
   NoRows,          // the problem has no rows
   LocalSolver,     // one frictional contact: the exact local solver alone
-  Equalities,      // bilateral rows only: one pivoted LDLᵀ of W (and up to two refinements)
+  Equalities,      // bilateral rows only: one LDLᵀ of W (and up to two refinements)
   WarmStart,       // the warm start already met the tolerance
   Sweeps,          // NSGS (proximal after stalls) until the Newton is expected to be cheaper
   Newton,          // a short global Newton from the sweeps' iterate
@@ -144,8 +145,9 @@ class FrictionContactSolver {
     std::vector<int> eqPerm;    // its diagonal pivoting order
     int eqRank = 0;
     // An equality-only problem (SolverStage::Equalities): eqL holds the LDLᵀ
-    // factor of its W scaled to a unit diagonal by eqScale (1 / sqrt(W_ii));
-    // its size m while that factor stands (solveEqualitiesAgain), else 0.
+    // factor of its W scaled to a unit diagonal by eqScale (1 / sqrt(W_ii)),
+    // in the order eqPerm; its size m while that factor stands
+    // (solveEqualitiesAgain), else 0.
     Eigen::VectorXd eqScale;
     int equalityFactorRows = 0;
     Eigen::MatrixXd J;          // Newton: Jacobian, LU in place

@@ -1,5 +1,5 @@
-// Dense kernels (dense_kernels.hpp): pivoted Cholesky, pivoted LDL^T and LU with
-// partial pivoting, in place, no allocation.
+// Dense kernels (dense_kernels.hpp): pivoted Cholesky, pivoted LDL^T and LU
+// with partial pivoting, in place, no allocation.
 #include "dense_kernels.hpp"
 
 #include <cmath>
@@ -78,43 +78,55 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm) {
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   for (int k = 0; k < n; ++k) {
     int p = k;
+    double big = a(k, k);
     for (int i = k + 1; i < n; ++i)
-      if (a(i, i) > a(p, p)) p = i;
-    if (!(a(p, p) > dropTol)) return k;
+      if (a(i, i) > big) {
+        big = a(i, i);
+        p = i;
+      }
+    if (!(big > dropTol)) {  // the rows left depend on those before: out of the factor
+      for (int j = k; j < n; ++j)
+        for (int i = j; i < n; ++i) a(i, j) = 0;
+      return k;
+    }
     if (p != k) {
       swapSymmetricLower(A, ld, n, k, p);
       std::swap(perm[k], perm[p]);
     }
-    const double d = a(k, k);
-    const double* ck = &a(0, k);
-    // Trailing update A22 -= v v^T / d (v: column k below the pivot), lower part.
+    // Trailing update A22 -= v v^T / d (v: column k below the pivot), lower
+    // part; the columns are distinct, hence __restrict.
+    double* __restrict ck = &a(0, k);
+    const double inv = 1 / ck[k];
     for (int j = k + 1; j < n; ++j) {
-      const double s = ck[j] / d;
+      const double s = ck[j] * inv;
       if (s == 0) continue;
-      double* cj = &a(0, j);
+      double* __restrict cj = &a(0, j);
       for (int i = j; i < n; ++i) cj[i] -= ck[i] * s;
     }
-    for (int i = k + 1; i < n; ++i) a(i, k) /= d;
+    for (int i = k + 1; i < n; ++i) ck[i] *= inv;
   }
   return n;
 }
 
-void pivotedLdltSolve(const double* L, int ld, int n, int rank, const int* perm, double* x, double* tmp) {
-  auto l = [&](int i, int j) { return L[i + std::size_t(j) * ld]; };
-  for (int k = 0; k < rank; ++k) tmp[k] = x[perm[k]];
-  for (int k = 0; k < rank; ++k) {  // L z = y
+void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp) {
+  for (int k = 0; k < n; ++k) tmp[k] = x[perm[k]];
+  for (int k = 0; k < n; ++k) {  // L z = y (a dependent row's column is 0)
     const double zk = tmp[k];
-    if (zk != 0)
-      for (int i = k + 1; i < rank; ++i) tmp[i] -= l(i, k) * zk;
+    if (zk == 0) continue;
+    const double* ck = L + std::size_t(k) * ld;
+    for (int i = k + 1; i < n; ++i) tmp[i] -= ck[i] * zk;
   }
-  for (int k = 0; k < rank; ++k) tmp[k] /= l(k, k);  // D
-  for (int k = rank - 1; k >= 0; --k) {  // L^T x = z
-    double s = tmp[k];
-    for (int i = k + 1; i < rank; ++i) s -= l(i, k) * tmp[i];
+  for (int k = n - 1; k >= 0; --k) {  // D L^T x = z; a dependent row's x is 0
+    const double* ck = L + std::size_t(k) * ld;
+    if (ck[k] == 0) {
+      tmp[k] = 0;
+      continue;
+    }
+    double s = tmp[k] / ck[k];
+    for (int i = k + 1; i < n; ++i) s -= ck[i] * tmp[i];
     tmp[k] = s;
   }
-  for (int k = rank; k < n; ++k) x[perm[k]] = 0;
-  for (int k = 0; k < rank; ++k) x[perm[k]] = tmp[k];
+  for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
 }
 
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a

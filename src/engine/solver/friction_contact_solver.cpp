@@ -154,6 +154,43 @@ void finishRun(SolveRun& run, bool ok) {
   rep.residual = run.it.err;
 }
 
+// Bilateral rows only: the equality schedule, its factor the solve (no warm start needed).
+SolverReport solveEqualityOnly(const Eigen::Ref<const Eigen::MatrixXd>& W, const Eigen::Ref<const Eigen::VectorXd>& b,
+                               const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
+                               Eigen::Ref<Eigen::VectorXd> P, double maxDiag, SolverBuffers& buf) {
+  const int m = problemRows(blocks);
+  growBuffers(buf, m, false);
+  SolveRun run(W, b, blocks, options, P, buf, m);
+  run.problem.equalityOnly = true;
+  prepareEqualityProblem(run.problem, maxDiag);
+  buf.equalityFactorRows = m;
+  finishRun(run, solveBySchedule(run));
+  return run.rep;
+}
+
+// Any problem: set up, the warm start checked, the schedule of its method run.
+SolverReport solveGeneralProblem(const Eigen::Ref<const Eigen::MatrixXd>& W, const Eigen::Ref<const Eigen::VectorXd>& b,
+                                 const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
+                                 Eigen::Ref<Eigen::VectorXd> P, double maxDiag, SolverBuffers& buf) {
+  const int m = problemRows(blocks);
+  if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
+  growBuffers(buf, m, scheduleUsesNewton(options.method, m));
+  SolveRun run(W, b, blocks, options, P, buf, m);
+  prepareProblem(run.problem, maxDiag);
+  restartIterate(run.problem, run.it);
+  run.best.adopt(run.it);
+  run.nsgs = NsgsState::fresh(run.it.err);
+  buf.Pinitial.head(m) = P.head(m);
+  if (run.it.err <= options.tolerance) {
+    run.rep.residual = run.it.err;
+    run.rep.converged = true;
+    run.rep.stage = SolverStage::WarmStart;
+    return run.rep;
+  }
+  finishRun(run, solveBySchedule(run));
+  return run.rep;
+}
+
 constexpr const char* kStageNames[kSolverStageCount] = {
     "no_rows",        "local_solver",    "equalities",      "warm_start",      "sweeps",          "newton",
     "newton_from_zero", "newton_from_warm", "newton_retry",  "proximal_trial",  "sweeps_to_budget",
@@ -214,32 +251,17 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
   const bool equalityOnly =
       allBilateral(blocks) && !(options.skip_stages >> static_cast<int>(SolverStage::Equalities) & 1);
-  if (equalityOnly) {  // a linear system: its factor is the solve (no warm start needed)
-    growBuffers(buffers_, m, false);
-    SolveRun run(W, b, blocks, options, P, buffers_, m);
-    run.problem.equalityOnly = true;
-    prepareEqualityProblem(run.problem, maxDiag);
-    buffers_.equalityFactorRows = m;
-    finishRun(run, solveBySchedule(run));
-    return run.rep;
-  }
-  if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
-  growBuffers(buffers_, m, scheduleUsesNewton(options.method, m));
-
-  SolveRun run(W, b, blocks, options, P, buffers_, m);
-  prepareProblem(run.problem, maxDiag);
-  restartIterate(run.problem, run.it);
-  run.best.adopt(run.it);
-  run.nsgs = NsgsState::fresh(run.it.err);
-  buffers_.Pinitial.head(m) = P.head(m);
-  if (run.it.err <= options.tolerance) {
-    run.rep.residual = run.it.err;
-    run.rep.converged = true;
-    run.rep.stage = SolverStage::WarmStart;
-    return run.rep;
-  }
-  finishRun(run, solveBySchedule(run));
-  return run.rep;
+  if (!equalityOnly) return solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);
+  const SolverReport direct = solveEqualityOnly(W, b, blocks, options, P, maxDiag, buffers_);
+  if (direct.converged || direct.stage == SolverStage::Failed) return direct;
+  // Rows so nearly dependent that leaving them out leaves a residual above the
+  // tolerance (a mechanism at a singular configuration), or an inconsistent
+  // system: the general schedule from the direct answer (its regularised Newton).
+  buffers_.equalityFactorRows = 0;  // the general set-up factors other things into eqL
+  rep = solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);
+  rep.sweeps += direct.sweeps;
+  rep.iteration_sum += direct.sweeps;
+  return rep;
 }
 
 bool FrictionContactSolver::solveEqualitiesAgain(const Eigen::Ref<const Eigen::VectorXd>& b,

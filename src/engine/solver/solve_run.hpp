@@ -117,7 +117,7 @@ struct SolveRun {
 // The zero rows (planar scenes), the Newton's row scaling, the factored
 // equality block, |b| and the local tolerance. maxDiag: the largest W(i, i).
 void prepareProblem(SolveProblem& pr, double maxDiag);
-// An equality-only problem: the zero rows, the pivoted LDLᵀ of the other rows
+// An equality-only problem: the zero rows, the LDLᵀ of the other rows
 // of W scaled to a unit diagonal (in buf.eqL, buf.eqScale), |b|.
 void prepareEqualityProblem(SolveProblem& pr, double maxDiag);
 // P = -W⁺ rhs (m rows) from the factor prepareEqualityProblem made: the basic
