@@ -6,13 +6,16 @@
 //     coefficient mu (equivalently the SOCCP K* ∋ U + mu|U_T| e_N  _|_  P ∈ K).
 // b already holds the restitution term of the Newton impact law.
 // Solved by a schedule of stages (src/engine/solver/solver_schedule.cpp,
-// docs/solver.md): nonsmooth Gauss-Seidel (NSGS) sweeps over the blocks with an
-// exact local solver per block, warm-started from the P passed in (all
-// Bilateral rows assembled into one equality block solved exactly in each
-// sweep); a global semismooth Newton on the Alart-Curnier function when the
-// sweeps converge slowly; and, for what they leave unsolved, the proximal
-// Newton, a long Newton and the cone fixed point. SolverReport::stage names
-// the stage that gave the answer.
+// docs/solver.md). A problem of bilateral rows only (ideal joints; the
+// position projection's joint rows) is a linear system: one LDLᵀ of W
+// solves it (SolverStage::Equalities; rows so nearly dependent that it leaves
+// them unsolved go on to the general schedule). Any other: nonsmooth
+// Gauss-Seidel (NSGS) sweeps over the blocks with an exact local solver per
+// block, warm-started from the P passed in (all Bilateral rows assembled into
+// one equality block solved exactly in each sweep); a global semismooth Newton
+// on the Alart-Curnier function when the sweeps converge slowly; and, for what
+// they leave unsolved, the proximal Newton, a long Newton and the cone fixed
+// point. SolverReport::stage names the stage that gave the answer.
 #pragma once
 
 #include <cstdint>
@@ -60,6 +63,7 @@ enum class SolverMethod { Auto, NSGS, Newton, ProximalNewton };
 enum class SolverStage : std::uint8_t {
   NoRows,          // the problem has no rows
   LocalSolver,     // one frictional contact: the exact local solver alone
+  Equalities,      // bilateral rows only: one LDLᵀ of W (and up to two refinements)
   WarmStart,       // the warm start already met the tolerance
   Sweeps,          // NSGS (proximal after stalls) until the Newton is expected to be cheaper
   Newton,          // a short global Newton from the sweeps' iterate
@@ -74,8 +78,8 @@ enum class SolverStage : std::uint8_t {
   Unsolved,        // no stage met the tolerance: the best iterate is the answer
   Failed,          // invalid or non-finite input, or a non-finite iterate
 };
-constexpr int kSolverStageCount = 15;
-// "no_rows", "local_solver", "warm_start", "sweeps", ... (snake case of the above).
+constexpr int kSolverStageCount = 16;
+// "no_rows", "local_solver", "equalities", "warm_start", "sweeps", ... (snake case of the above).
 const char* solverStageName(SolverStage stage);
 
 struct SolverOptions {
@@ -90,6 +94,8 @@ struct SolverOptions {
 struct SolverReport {
   // sweeps + newton_iterations + interior_point_iterations: steps of unlike cost
   // summed into one work count (what StepStats::iterations and the CSV's iters add up).
+  // (A direct solve, SolverStage::Equalities, counts its solves with the factor
+  // as sweeps: one, or two or three with refinements.)
   int iteration_sum = 0;
   double residual = 0;        // solverError at exit
   bool converged = false;
@@ -118,6 +124,13 @@ class FrictionContactSolver {
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
                      Eigen::Ref<Eigen::VectorXd> P);
 
+  // Another right-hand side for the W of the last problem solved, when that one
+  // had bilateral rows only (SolverStage::Equalities factored its W): P = -W⁺ b
+  // from the same factor (zero and dependent rows 0), m = P.size() rows. False,
+  // P untouched, if the last solve made no such factor or had another size. The
+  // caller vouches that W is the same (the position projection: step_stages.hpp).
+  bool solveEqualitiesAgain(const Eigen::Ref<const Eigen::VectorXd>& b, Eigen::Ref<Eigen::VectorXd> P);
+
   // The solver's buffers, grown to the largest problem seen, never shrunk
   // (internal: src/engine/solver, solve_run.hpp).
   struct Buffers {
@@ -131,6 +144,12 @@ class FrictionContactSolver {
     std::vector<int> eqRows;    // rows of the equality block (W order)
     std::vector<int> eqPerm;    // its diagonal pivoting order
     int eqRank = 0;
+    // An equality-only problem (SolverStage::Equalities): eqL holds the LDLᵀ
+    // factor of its W scaled to a unit diagonal by eqScale (1 / sqrt(W_ii)),
+    // in the order eqPerm; its size m while that factor stands
+    // (solveEqualitiesAgain), else 0.
+    Eigen::VectorXd eqScale;
+    int equalityFactorRows = 0;
     Eigen::MatrixXd J;          // Newton: Jacobian, LU in place
     Eigen::VectorXd phi, d, Wd, Pt, Ut, phiT, rho;
     std::vector<int> piv;

@@ -67,7 +67,7 @@ def test_contact_points_of_a_block_resting_on_a_slope(nscd_sim):
     # The step's solves by the solver stage that finished them (a box on a slope:
     # one contact pair of up to 4 points, solved, so none unsolved) and its rescues.
     stages = stats['solver_stages']
-    assert list(stages)[:3] == ['no_rows', 'local_solver', 'warm_start'] and len(stages) == 15
+    assert list(stages)[:4] == ['no_rows', 'local_solver', 'equalities', 'warm_start'] and len(stages) == 16
     assert sum(stages.values()) >= 1 and stages['unsolved'] == 0 and stages['failed'] == 0
     assert stats['rescues'] == {name: False for name in ('cold_retry', 'plastic_impact', 'halving', 'longer_solve',
                                                          'plastic_retry', 'frictionless', 'energy_cap')}

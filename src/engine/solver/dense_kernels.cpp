@@ -1,5 +1,5 @@
-// Dense kernels (dense_kernels.hpp): pivoted Cholesky and LU with partial
-// pivoting, in place, no allocation.
+// Dense kernels (dense_kernels.hpp): pivoted Cholesky, pivoted LDL^T and LU
+// with partial pivoting, in place, no allocation.
 #include "dense_kernels.hpp"
 
 #include <cmath>
@@ -56,6 +56,75 @@ void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* p
     double s = tmp[k];
     for (int i = k + 1; i < rank; ++i) s -= l(i, k) * tmp[i];
     tmp[k] = s / l(k, k);
+  }
+  for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
+}
+
+namespace {
+
+// Rows and columns k < p of a symmetric matrix swapped, in its lower triangle.
+void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int c = 0; c < k; ++c) std::swap(a(k, c), a(p, c));
+  std::swap(a(k, k), a(p, p));
+  for (int i = k + 1; i < p; ++i) std::swap(a(i, k), a(p, i));
+  for (int r = p + 1; r < n; ++r) std::swap(a(r, k), a(r, p));
+}
+
+}  // namespace
+
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm) {
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    double big = a(k, k);
+    for (int i = k + 1; i < n; ++i)
+      if (a(i, i) > big) {
+        big = a(i, i);
+        p = i;
+      }
+    if (!(big > dropTol)) {  // the rows left depend on those before: out of the factor
+      for (int j = k; j < n; ++j)
+        for (int i = j; i < n; ++i) a(i, j) = 0;
+      return k;
+    }
+    if (p != k) {
+      swapSymmetricLower(A, ld, n, k, p);
+      std::swap(perm[k], perm[p]);
+    }
+    // Trailing update A22 -= v v^T / d (v: column k below the pivot), lower
+    // part; the columns are distinct, hence __restrict.
+    double* __restrict ck = &a(0, k);
+    const double inv = 1 / ck[k];
+    for (int j = k + 1; j < n; ++j) {
+      const double s = ck[j] * inv;
+      if (s == 0) continue;
+      double* __restrict cj = &a(0, j);
+      for (int i = j; i < n; ++i) cj[i] -= ck[i] * s;
+    }
+    for (int i = k + 1; i < n; ++i) ck[i] *= inv;
+  }
+  return n;
+}
+
+void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp) {
+  for (int k = 0; k < n; ++k) tmp[k] = x[perm[k]];
+  for (int k = 0; k < n; ++k) {  // L z = y (a dependent row's column is 0)
+    const double zk = tmp[k];
+    if (zk == 0) continue;
+    const double* ck = L + std::size_t(k) * ld;
+    for (int i = k + 1; i < n; ++i) tmp[i] -= ck[i] * zk;
+  }
+  for (int k = n - 1; k >= 0; --k) {  // D L^T x = z; a dependent row's x is 0
+    const double* ck = L + std::size_t(k) * ld;
+    if (ck[k] == 0) {
+      tmp[k] = 0;
+      continue;
+    }
+    double s = tmp[k] / ck[k];
+    for (int i = k + 1; i < n; ++i) s -= ck[i] * tmp[i];
+    tmp[k] = s;
   }
   for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
 }

@@ -15,6 +15,19 @@ int pivotedCholesky(double* A, int ld, int n, double dropTol, int* perm);
 void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* perm, double* x,
                           double* tmp);
 
+// In-place LDL^T with diagonal (complete) pivoting of the n x n symmetric
+// positive semidefinite A, its lower triangle only (read and written; the upper
+// is not touched): Pi^T A Pi = L D L^T, L unit lower triangular below the
+// diagonal, D on it, perm[k] = original index of pivot k. Each pivot is the
+// largest remaining diagonal; the first one at most dropTol stops it (the rows
+// left depend on those before them: every entry of what is left is at most
+// dropTol), and their D and L are set to 0. Returns the rank.
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm);
+
+// x = A^+ rhs from that factor, the basic solution: dependent rows get 0. rhs
+// in, x out (both in original order); tmp: n scratch.
+void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp);
+
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a
 // pivot is zero or not finite.
 bool luFactor(double* A, int ld, int n, int* piv);

@@ -1,7 +1,8 @@
 // The friction-contact solver's front: checks the problem, answers a single
 // contact by the local solver alone, sets up the buffers and the problem
-// (problem_setup.cpp), runs the schedule of stages (solver_schedule.cpp) and
-// reports; and the Siconos-style error.
+// (problem_setup.cpp; a problem of bilateral rows only as the linear system it
+// is), runs the schedule of stages (solver_schedule.cpp) and reports; and the
+// Siconos-style error.
 #include "nscd_sim/friction_contact_solver.hpp"
 
 #include <algorithm>
@@ -48,6 +49,12 @@ double blockError2(const ProblemBlock& bl, const double* P, const double* U) {
     }
   }
   return 0;
+}
+
+bool allBilateral(const std::vector<ProblemBlock>& blocks) {
+  for (const ProblemBlock& bl : blocks)
+    if (bl.kind != BlockKind::Bilateral) return false;
+  return true;
 }
 
 bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
@@ -147,8 +154,45 @@ void finishRun(SolveRun& run, bool ok) {
   rep.residual = run.it.err;
 }
 
+// Bilateral rows only: the equality schedule, its factor the solve (no warm start needed).
+SolverReport solveEqualityOnly(const Eigen::Ref<const Eigen::MatrixXd>& W, const Eigen::Ref<const Eigen::VectorXd>& b,
+                               const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
+                               Eigen::Ref<Eigen::VectorXd> P, double maxDiag, SolverBuffers& buf) {
+  const int m = problemRows(blocks);
+  growBuffers(buf, m, false);
+  SolveRun run(W, b, blocks, options, P, buf, m);
+  run.problem.equalityOnly = true;
+  prepareEqualityProblem(run.problem, maxDiag);
+  buf.equalityFactorRows = m;
+  finishRun(run, solveBySchedule(run));
+  return run.rep;
+}
+
+// Any problem: set up, the warm start checked, the schedule of its method run.
+SolverReport solveGeneralProblem(const Eigen::Ref<const Eigen::MatrixXd>& W, const Eigen::Ref<const Eigen::VectorXd>& b,
+                                 const std::vector<ProblemBlock>& blocks, const SolverOptions& options,
+                                 Eigen::Ref<Eigen::VectorXd> P, double maxDiag, SolverBuffers& buf) {
+  const int m = problemRows(blocks);
+  if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
+  growBuffers(buf, m, scheduleUsesNewton(options.method, m));
+  SolveRun run(W, b, blocks, options, P, buf, m);
+  prepareProblem(run.problem, maxDiag);
+  restartIterate(run.problem, run.it);
+  run.best.adopt(run.it);
+  run.nsgs = NsgsState::fresh(run.it.err);
+  buf.Pinitial.head(m) = P.head(m);
+  if (run.it.err <= options.tolerance) {
+    run.rep.residual = run.it.err;
+    run.rep.converged = true;
+    run.rep.stage = SolverStage::WarmStart;
+    return run.rep;
+  }
+  finishRun(run, solveBySchedule(run));
+  return run.rep;
+}
+
 constexpr const char* kStageNames[kSolverStageCount] = {
-    "no_rows",        "local_solver",    "warm_start",      "sweeps",          "newton",
+    "no_rows",        "local_solver",    "equalities",      "warm_start",      "sweeps",          "newton",
     "newton_from_zero", "newton_from_warm", "newton_retry",  "proximal_trial",  "sweeps_to_budget",
     "proximal_newton", "long_newton",    "cone_fixed_point", "unsolved",       "failed"};
 
@@ -193,6 +237,7 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
                                           Eigen::Ref<Eigen::VectorXd> P) {
   SolverReport rep;
   rep.residual = INFINITY;
+  buffers_.equalityFactorRows = 0;  // whatever this solve does, the last factor goes
   const int m = problemRows(blocks);
   if (m == 0) {
     rep.residual = 0;
@@ -204,23 +249,27 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   if (solveSingleContact(W, b, blocks, options, P, rep)) return rep;
   double maxDiag = 0;
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
-  if (!P.head(m).allFinite()) P.head(m).setZero();  // a poisoned warm start is dropped
-  growBuffers(buffers_, m, scheduleUsesNewton(options.method, m));
+  const bool equalityOnly =
+      allBilateral(blocks) && !(options.skip_stages >> static_cast<int>(SolverStage::Equalities) & 1);
+  if (!equalityOnly) return solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);
+  const SolverReport direct = solveEqualityOnly(W, b, blocks, options, P, maxDiag, buffers_);
+  if (direct.converged || direct.stage == SolverStage::Failed) return direct;
+  // Rows so nearly dependent that leaving them out leaves a residual above the
+  // tolerance (a mechanism at a singular configuration), or an inconsistent
+  // system: the general schedule from the direct answer (its regularised Newton).
+  buffers_.equalityFactorRows = 0;  // the general set-up factors other things into eqL
+  rep = solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);
+  rep.sweeps += direct.sweeps;
+  rep.iteration_sum += direct.sweeps;
+  return rep;
+}
 
-  SolveRun run(W, b, blocks, options, P, buffers_, m);
-  prepareProblem(run.problem, maxDiag);
-  restartIterate(run.problem, run.it);
-  run.best.adopt(run.it);
-  run.nsgs = NsgsState::fresh(run.it.err);
-  buffers_.Pinitial.head(m) = P.head(m);
-  if (run.it.err <= options.tolerance) {
-    run.rep.residual = run.it.err;
-    run.rep.converged = true;
-    run.rep.stage = SolverStage::WarmStart;
-    return run.rep;
-  }
-  finishRun(run, solveBySchedule(run));
-  return run.rep;
+bool FrictionContactSolver::solveEqualitiesAgain(const Eigen::Ref<const Eigen::VectorXd>& b,
+                                                 Eigen::Ref<Eigen::VectorXd> P) {
+  const int m = int(P.size());
+  if (m == 0 || m != buffers_.equalityFactorRows || b.size() < m) return false;
+  solveByEqualityFactor(buffers_, m, b.data(), P.data());
+  return true;
 }
 
 }  // namespace nscd

@@ -1,7 +1,9 @@
 // What every stage of a solve relies on: the problem prepared once (zero rows,
 // the Newton's row scaling, the equality rows assembled into one block and
-// factored), and an iterate (re)started on it.
+// factored), and an iterate (re)started on it; for a problem of equality rows
+// only, their factor, which is the solve.
 #include <algorithm>
+#include <cmath>
 
 #include "dense_kernels.hpp"
 #include "solve_run.hpp"
@@ -11,6 +13,26 @@ namespace {
 
 constexpr double kRelZeroDiag = 1e-13;  // a W diagonal below this * max diagonal is a zero row
 constexpr double kEqDrop = 1e-11;       // equality pivots below this * max diagonal: dependent rows
+// Equality-only problems: W scaled to a unit diagonal and factored with
+// diagonal pivoting, a pivot below this is a row dependent on those before it
+// (its component off their span, in W's metric, below 3e-7 of its length).
+// Redundant loop rows (a four-bar closed in 3D: 3 of its 20 rows) come out at
+// round-off, 1e-16, the others' smallest at 4e-3. (In the rows' own order,
+// without pivoting, the four-bar's redundant rows came out at up to 2e-12,
+// after pivots of 7e-4: too close to a threshold.) A row kept that nearly
+// depends on the others (pivot d) errs by about 1e-16 / sqrt(d) relative in the
+// velocities its impulse makes: 3e-10 at this threshold.
+constexpr double kEqScaledDrop = 1e-13;
+
+// buf's equality buffers hold ne rows.
+void growEqualityBuffers(SolverBuffers& buf, int ne) {
+  if (ne <= buf.maxEq) return;
+  buf.maxEq = ne;
+  buf.eqL.resize(ne, ne);
+  buf.eqRhs.resize(2 * ne);
+  buf.eqPerm.resize(ne);
+  buf.eqScale.resize(ne);
+}
 
 // Zero rows keep P = 0. The Newton's per-row scaling rho.
 void scaleRows(SolveProblem& pr) {
@@ -52,12 +74,7 @@ void factorEqualities(SolveProblem& pr) {
   }
   const int ne = int(buf.eqRows.size());
   pr.ne = ne;
-  if (ne > buf.maxEq) {
-    buf.maxEq = ne;
-    buf.eqL.resize(ne, ne);
-    buf.eqRhs.resize(2 * ne);
-    buf.eqPerm.resize(ne);
-  }
+  growEqualityBuffers(buf, ne);
   if (ne > 0) {
     for (int c = 0; c < ne; ++c)
       for (int r = 0; r < ne; ++r) buf.eqL(r, c) = W(buf.eqRows[r], buf.eqRows[c]);
@@ -65,7 +82,59 @@ void factorEqualities(SolveProblem& pr) {
   }
 }
 
+// The lower triangle of the equality rows' block of W scaled to a unit diagonal.
+void copyScaledEqualities(const SolveProblem& pr, SolverBuffers& buf) {
+  const int ne = pr.ne;
+  const double* s = buf.eqScale.data();
+  const int* rows = buf.eqRows.data();
+  const Eigen::Index ldw = pr.W.outerStride(), ldl = buf.eqL.outerStride();
+  for (int c = 0; c < ne; ++c) {
+    const double* wc = pr.W.data() + rows[c] * ldw;
+    double* lc = buf.eqL.data() + c * ldl;
+    const double sc = s[c];
+    if (ne == pr.m) {  // no zero rows: the rows are 0 .. m-1
+      for (int r = c; r < ne; ++r) lc[r] = wc[r] * (s[r] * sc);
+    } else {
+      for (int r = c; r < ne; ++r) lc[r] = wc[rows[r]] * (s[r] * sc);
+    }
+  }
+}
+
 }  // namespace
+
+void prepareEqualityProblem(SolveProblem& pr, double maxDiag) {
+  const auto& W = pr.W;
+  SolverBuffers& buf = pr.buf;
+  pr.maxDiag = maxDiag;
+  pr.zeroDiag = kRelZeroDiag * maxDiag;
+  buf.eqRows.clear();
+  for (int i = 0; i < pr.m; ++i) {
+    buf.zeroRow[i] = !(W(i, i) > pr.zeroDiag);
+    if (!buf.zeroRow[i]) buf.eqRows.push_back(i);
+  }
+  const int ne = int(buf.eqRows.size());
+  pr.ne = ne;
+  growEqualityBuffers(buf, ne);
+  // The unit-diagonal scaling makes the pivoting and the rank test independent of
+  // the rows' units (a light link's rotation rows are 1e9 times its neighbours').
+  double* s = buf.eqScale.data();
+  for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W(buf.eqRows[a], buf.eqRows[a]));
+  copyScaledEqualities(pr, buf);
+  pivotedLdlt(buf.eqL.data(), int(buf.eqL.rows()), ne, kEqScaledDrop, buf.eqPerm.data());
+  pr.bnorm = pr.b.head(pr.m).norm();
+  pr.localTol = std::max(1e-14, 1e-2 * pr.tolerance);
+}
+
+void solveByEqualityFactor(SolverBuffers& buf, int m, const double* rhs, double* P) {
+  const int ne = int(buf.eqRows.size());
+  const double* s = buf.eqScale.data();
+  double* x = buf.eqRhs.data();
+  // W = S^-1 Ws S^-1 (S = diag(s)), so W⁺ rhs = S Ws⁺ S rhs on the rows kept.
+  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[buf.eqRows[a]];
+  ldltSolve(buf.eqL.data(), int(buf.eqL.rows()), ne, buf.eqPerm.data(), x, x + ne);
+  for (int i = 0; i < m; ++i) P[i] = 0;
+  for (int a = 0; a < ne; ++a) P[buf.eqRows[a]] = s[a] * x[a];
+}
 
 void prepareProblem(SolveProblem& pr, double maxDiag) {
   pr.maxDiag = maxDiag;

@@ -40,6 +40,10 @@ struct SolveProblem {
   double bnorm = 0;     // |b|, the error's normalisation
   double localTol = 0;  // the local solver's tolerance
   int ne = 0;           // equality rows (buf.eqRows)
+  // Every block bilateral (and the Equalities stage not skipped): the
+  // schedule is the direct solve (solver_schedule.cpp), set up by
+  // prepareEqualityProblem instead of prepareProblem.
+  bool equalityOnly = false;
 };
 
 // An iterate P with U = W P + b (the sweeps update U incrementally and refresh
@@ -113,6 +117,12 @@ struct SolveRun {
 // The zero rows (planar scenes), the Newton's row scaling, the factored
 // equality block, |b| and the local tolerance. maxDiag: the largest W(i, i).
 void prepareProblem(SolveProblem& pr, double maxDiag);
+// An equality-only problem: the zero rows, the LDLᵀ of the other rows
+// of W scaled to a unit diagonal (in buf.eqL, buf.eqScale), |b|.
+void prepareEqualityProblem(SolveProblem& pr, double maxDiag);
+// P = -W⁺ rhs (m rows) from the factor prepareEqualityProblem made: the basic
+// solution, zero and dependent rows 0.
+void solveByEqualityFactor(SolverBuffers& buf, int m, const double* rhs, double* P);
 // The iterate made admissible (P = 0 on the zero rows), U = W P + b exactly, its error.
 void restartIterate(const SolveProblem& pr, Iterate& it);
 // U = W P + b exactly and the error, P as it is.

@@ -36,6 +36,14 @@ bool coneApplies(const SolveRun& run) { return coneFixedPointApplies(run); }
 
 using S = SolverStage;
 constexpr StageBudget kNoBudget{};
+// Refinements of the direct solve (each one more solve with the factor).
+constexpr int kEqualityRefinements = 2;
+
+// Bilateral rows only (chosen by the problem's content, whatever the method):
+// a linear system, which one factorisation solves.
+constexpr Stage kEqualitySchedule[] = {
+    {S::Equalities,      Start::Current,       {SweepRule::One, {0, 0, 0}, kEqualityRefinements}, nullptr,         equalityStage},
+};
 
 // Auto and Newton: the sweeps, the Newton when it is expected to be cheaper, and
 // for what they leave unsolved the proximal Newton, a long Newton and the cone
@@ -75,7 +83,10 @@ struct Schedule {
   const Stage* end;
 };
 
-Schedule scheduleFor(SolverMethod method, int m) {
+Schedule scheduleFor(const SolveRun& run) {
+  const SolverMethod method = run.options.method;
+  const int m = run.problem.m;
+  if (run.problem.equalityOnly) return {std::begin(kEqualitySchedule), std::end(kEqualitySchedule)};
   if (method == SolverMethod::NSGS || m > kNewtonMaxRows) return {std::begin(kNsgsSchedule), std::end(kNsgsSchedule)};
   if (method == SolverMethod::ProximalNewton) return {std::begin(kProximalSchedule), std::end(kProximalSchedule)};
   return {std::begin(kNewtonSchedule), std::end(kNewtonSchedule)};
@@ -88,7 +99,7 @@ bool scheduleUsesNewton(SolverMethod method, int m) {
 }
 
 bool solveBySchedule(SolveRun& run) {
-  const Schedule schedule = scheduleFor(run.options.method, run.problem.m);
+  const Schedule schedule = scheduleFor(run);
   for (const Stage* stage = schedule.begin; stage != schedule.end; ++stage) {
     if ((run.options.skip_stages >> static_cast<int>(stage->stage) & 1) || (stage->when && !stage->when(run)))
       continue;

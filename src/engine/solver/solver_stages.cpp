@@ -80,6 +80,22 @@ StageOutcome sweepUntilNewton(SolveRun& run) {
   return StageOutcome::Unsolved;
 }
 
+// U = W P + b and the error, for the direct solve: the columns of the nonzero
+// P_j added in turn (plain loops: Eigen's general product costs more than the
+// sums on problems of 5 to 20 rows).
+void equalityResidual(const SolveProblem& pr, Iterate& it) {
+  const int m = pr.m;
+  double* U = it.U.data();
+  for (int i = 0; i < m; ++i) U[i] = pr.b(i);
+  for (int j = 0; j < m; ++j) {
+    const double pj = it.P(j);
+    if (pj == 0) continue;
+    const double* wj = pr.W.data() + j * pr.W.outerStride();
+    for (int i = 0; i < m; ++i) U[i] += wj[i] * pj;
+  }
+  it.err = errorFromU(pr.blocks, it.P.data(), U, pr.bnorm);
+}
+
 }  // namespace
 
 void beginStage(SolveRun& run, Start start) {
@@ -105,6 +121,29 @@ void beginStage(SolveRun& run, Start start) {
       run.nsgs.stallIt = run.rep.sweeps;
       return;
   }
+}
+
+StageOutcome equalityStage(SolveRun& run, const Stage& stage) {
+  const SolveProblem& pr = run.problem;
+  const int m = pr.m;
+  Iterate& it = run.it;
+  SolverReport& rep = run.rep;
+  solveByEqualityFactor(pr.buf, m, pr.b.data(), it.P.data());
+  equalityResidual(pr, it);
+  run.best.adopt(it);
+  rep.sweeps = 1;
+  // Refinement: the correction of the residual U (U = 0 is the answer).
+  double* correction = pr.buf.d.data();
+  for (int k = 0; k < stage.budget.attempts && !(it.err <= pr.tolerance); ++k) {
+    solveByEqualityFactor(pr.buf, m, it.U.data(), correction);
+    for (int i = 0; i < m; ++i) it.P(i) += correction[i];
+    equalityResidual(pr, it);
+    run.best.offer(it);
+    ++rep.sweeps;
+  }
+  if (!it.P.head(m).allFinite() || !std::isfinite(it.err)) return StageOutcome::NonFinite;
+  rep.converged = it.err <= pr.tolerance;
+  return rep.converged ? StageOutcome::Solved : StageOutcome::Unsolved;
 }
 
 StageOutcome sweepStage(SolveRun& run, const Stage& stage) {

@@ -52,6 +52,11 @@ struct Stage {
   StageOutcome (*run)(SolveRun&, const Stage&);
 };
 
+// Bilateral rows only: P = -W⁺ b from the factor prepareEqualityProblem made,
+// then up to budget.attempts refinements P -= W⁺ U while the error is above
+// the tolerance. Unsolved (an inconsistent or ill-conditioned system): the best
+// of these iterates.
+StageOutcome equalityStage(SolveRun& run, const Stage& stage);
 // NSGS by the budget's rule; Unsolved: the last sweep's iterate, and under
 // UntilNewton the run handed to the Newton (run.newtonDue) unless the sweep
 // budget ran out.

@@ -2,7 +2,10 @@
 // are projected onto {g(q) >= 0, h(q) = 0} by a position-level complementarity
 // problem on the normal rows: 0 <= g + G M^-1 G^T tau  _|_  tau >= 0 (equalities
 // for bilateral rows), dq = M^-1 G^T tau, repeated until the violation is below
-// the tolerance (a length, well below the smallest clearance).
+// the tolerance (a length, well below the smallest clearance). Each pass gathers
+// the rows once: the check of its violation gives the rows it corrects. In a
+// model of ideal joints alone, the first pass may take the velocity stage's
+// operator instead of its own (velocityFactorReusable).
 #include <algorithm>
 #include <cmath>
 
@@ -13,6 +16,9 @@ namespace nscd {
 namespace {
 
 constexpr int kProjectionBacktracks = 4;
+// The largest turn of a body over the step (rad) for which the first pass takes
+// the velocity stage's operator (velocityFactorReusable).
+constexpr double kMaxChordTurn = 0.02;
 // A least-distance correction larger than this many times the unsolved
 // complementarity answer it would replace is not used.
 constexpr double kLeastDistanceGrowth = 10;
@@ -24,6 +30,8 @@ void gatherPositionRows(const Model& m, const State& s, CandidateMode mode, doub
   clearConstraintRows(ws);
   // Prescribed rates do not matter at the position level.
   appendBilateralRows(m, s, ws.zero_rates, ws);
+  keyRowsOnPoses(s, ws);  // the next step's rows, if the bodies stay here
+  if (!hasContactSources(ws)) return;
   findContactCandidates(m, s, 0.0, mode, extra_margin, ring_hint, ws);
   activateContacts(m, s, 0.0, mode, ws);
 }
@@ -79,7 +87,82 @@ bool leastDistanceCorrection(StepWorkspace& ws) {
   return ws.dq.allFinite();
 }
 
+// The pass's problem from the rows gathered at the state: b = g (the bilateral
+// rows' errors), W = G M^-1 G^T (and Y = M^-1 G^T), solved into ws.P. For the
+// first pass of a step whose operator may be reused (reuse), the velocity
+// stage's factor and Y instead, where the solver still holds it. True if
+// solved (a reused factor always is).
+bool solvePass(const State& s, StepWorkspace& ws, bool reuse, const SolverOptions& opt) {
+  const int r = ws.rows;
+  ws.problem.clear();
+  for (ConstraintBlock& blk : ws.blocks) {
+    if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
+    ProblemBlock pb;
+    pb.kind = blk.kind;
+    pb.row = blk.row;
+    pb.size = blk.size;
+    ws.problem.push_back(pb);
+    if (blk.kind == BlockKind::Bilateral)
+      for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
+    else
+      ws.b[blk.row] = blk.contact.cp.gap;
+  }
+  ws.projection_reused_factor = reuse && ws.solver.solveEqualitiesAgain(ws.b.head(r), ws.P.head(r));
+  if (ws.projection_reused_factor) return true;
+  assembleDelassus(ws.mass_inverse, true, ws, 0, r);  // M^-1: one block per body
+  ws.P.head(r).setZero();
+  return ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r)).converged;
+}
+
+// The least-distance answer replaces the unsolved one unless it is far larger:
+// a near-infeasible set of rows (a point reported deep behind a surface patch)
+// made it move a C-60 plate by 0.37 m.
+void replaceUnsolvedPass(StepWorkspace& ws, StepStats& st) {
+  const double unsolved = ws.dq.lpNorm<Eigen::Infinity>();
+  ws.saved_dq = ws.dq;
+  if (!leastDistanceCorrection(ws)) return;
+  if (ws.dq.allFinite() && ws.dq.lpNorm<Eigen::Infinity>() <= kLeastDistanceGrowth * unsolved)
+    ++st.projection_least_distance;
+  else
+    ws.dq = ws.saved_dq;
+}
+
+// Backtracking: the linearised correction can overshoot where the gaps are
+// curved on the scale of the correction (a journal far outside a small
+// clearance, coupled joints) and the passes would then oscillate. Takes the
+// longest of 1, 1/2, 1/4, 1/8 of it that lowers the violation (else 1/8).
+// True if the rows in ws are those of the positions it leaves (its last check
+// was of them, with the margin the next pass gathers with).
+bool applyWithBacktracking(const Model& m, State& s, StepWorkspace& ws, double violation,
+                           double* hint) {
+  ws.saved_bodies = s.bodies;
+  for (int k = 0; k < kProjectionBacktracks; ++k) {
+    if (k > 0) {
+      s.bodies = ws.saved_bodies;
+      ws.dq *= 0.5;
+    }
+    applyDisplacement(s, ws.dq);
+    if (k + 1 == kProjectionBacktracks) return false;
+    gatherPositionRows(m, s, CandidateMode::Projection, 0.0, hint, ws);
+    double bil_t = 0;
+    const double pen_t = violationOfBlocks(ws, &bil_t);
+    // Without contacts the margin changes nothing: these rows are the next pass's.
+    if (std::max(pen_t, bil_t) < violation) return !hasContactSources(ws);
+  }
+  return false;
+}
+
 }  // namespace
+
+bool velocityFactorReusable(double h, const StepWorkspace& ws) {
+  // Only where the rows are the same ones (no contacts to come and go) and the
+  // step's operator is the projection's (Ŵ = M^-1).
+  if (hasContactSources(ws) || ws.facts.stiff || ws.rows == 0) return false;
+  double w2 = 0;
+  for (int b = 0; b < ws.nbodies; ++b)
+    w2 = std::max({w2, ws.vk.segment<3>(6 * b + 3).squaredNorm(), ws.vnew.segment<3>(6 * b + 3).squaredNorm()});
+  return h * h * w2 <= kMaxChordTurn * kMaxChordTurn;
+}
 
 double measureViolation(const Model& m, const State& s, StepWorkspace& ws, double* bilateral) {
   ws.ring_hint = s.ring_hint;  // a copy: a query leaves the state as it is
@@ -88,19 +171,20 @@ double measureViolation(const Model& m, const State& s, StepWorkspace& ws, doubl
 }
 
 int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
-                     double& violation, StepStats& st) {
+                     double& violation, StepStats& st, bool reuse) {
   // Penetrating rings get tangent facets (CandidateMode::Projection) from the
-  // first pass; backtracking (below) only from the second, which is needed only
-  // where the first pass was not enough.
+  // first pass; backtracking only from the second, which is needed only where
+  // the first pass was not enough.
   const CandidateMode mode = CandidateMode::Projection;
   double* hint = s.ring_hint.data();
   double extra = 0;
   SolverOptions opt;
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
+  bool rows_current = false;  // ws holds the rows of the state as it is
   for (int pass = 0;; ++pass) {
     ws.check_hint = s.ring_hint;  // same size: no allocation
-    gatherPositionRows(m, s, mode, extra, hint, ws);
+    if (!rows_current) gatherPositionRows(m, s, mode, extra, hint, ws);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
@@ -112,64 +196,17 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     }
     // Contacts within reach of the correction join the problem so that fixing
     // one violation does not create another.
-    if (extra < 2 * violation) {
+    if (extra < 2 * violation && hasContactSources(ws)) {
       extra = 2 * violation;
       gatherPositionRows(m, s, mode, extra, hint, ws);
     }
-    const int r = ws.rows;
-    ws.problem.clear();
-    for (ConstraintBlock& blk : ws.blocks) {
-      if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
-      ProblemBlock pb;
-      pb.kind = blk.kind;
-      pb.row = blk.row;
-      pb.size = blk.size;
-      ws.problem.push_back(pb);
-      if (blk.kind == BlockKind::Bilateral)
-        for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
-      else
-        ws.b[blk.row] = blk.contact.cp.gap;
-    }
-    assembleDelassus(ws.mass_inverse, true, ws, 0, r);  // M^-1: one block per body
-    ws.P.head(r).setZero();
-    const SolverReport rep =
-        ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r));
-    ws.dq.noalias() = ws.Y.leftCols(r) * ws.P.head(r);
-    if (!rep.converged) {
-      // The least-distance answer replaces the unsolved one unless it is far
-      // larger: a near-infeasible set of rows (a point reported deep behind a
-      // surface patch) made it move a C-60 plate by 0.37 m.
-      const double unsolved = ws.dq.lpNorm<Eigen::Infinity>();
-      ws.saved_dq = ws.dq;
-      if (leastDistanceCorrection(ws)) {
-        if (ws.dq.allFinite() && ws.dq.lpNorm<Eigen::Infinity>() <= kLeastDistanceGrowth * unsolved)
-          ++st.projection_least_distance;
-        else
-          ws.dq = ws.saved_dq;
-      }
-    }
+    const bool solved = solvePass(s, ws, reuse && pass == 0, opt);
+    ws.dq.noalias() = ws.Y.leftCols(ws.rows) * ws.P.head(ws.rows);
+    if (!solved) replaceUnsolvedPass(ws, st);
     if (!ws.dq.allFinite()) return pass;
-    if (pass == 0) {
-      applyDisplacement(s, ws.dq);
-      continue;
-    }
-    // Backtracking: the linearised correction can overshoot where the gaps are
-    // curved on the scale of the correction (a journal far outside a small
-    // clearance, coupled joints) and the passes would then oscillate. Take the
-    // longest of 1, 1/2, 1/4, 1/8 of it that lowers the violation (else 1/8).
-    ws.saved_bodies = s.bodies;
-    for (int k = 0; k < kProjectionBacktracks; ++k) {
-      if (k > 0) {
-        s.bodies = ws.saved_bodies;
-        ws.dq *= 0.5;
-      }
-      applyDisplacement(s, ws.dq);
-      if (k + 1 == kProjectionBacktracks) break;
-      gatherPositionRows(m, s, mode, 0.0, hint, ws);
-      double bil_t = 0;
-      const double pen_t = violationOfBlocks(ws, &bil_t);
-      if (std::max(pen_t, bil_t) < violation) break;
-    }
+    rows_current = false;
+    if (pass == 0) applyDisplacement(s, ws.dq);
+    else rows_current = applyWithBacktracking(m, s, ws, violation, hint);
   }
 }
 

@@ -18,6 +18,98 @@ namespace {
 // Re-solves per step for contacts closed by the answer (activateLateContacts).
 constexpr int kLateActivationRounds = 3;
 
+// The stages of Simulator::advance that take more than one call.
+
+// Outputs and rows cleared (but rows gathered at the state's poses, the last
+// step's last check, in a model whose rows follow the poses), the commanded
+// rates of the step, the ring hints kept while the step may still be taken
+// again in halves.
+void beginStep(double h, bool may_halve, const State& s, StepWorkspace& ws, StepOutputs& out) {
+  if (may_halve) ws.halving_hint = s.ring_hint;  // same size: no allocation
+  clearStepOutputs(out);
+  if (!rowsMatchPoses(s, ws)) clearConstraintRows(ws);
+  for (size_t i = 0; i < s.commands.size(); ++i) ws.rates[i] = (s.commands[i] - s.prev_commands[i]) / h;
+}
+
+// 1. Forces, the iteration matrix and the free velocity.
+void computeFreeMotion(const Model& m, double h, const State& s, StepWorkspace& ws, StepOutputs& out) {
+  computeForces(m, s, ws, out, ws.facts.stiff);
+  stateVelocities(s, ws.vk);
+  buildIterationMatrix(m, h, ws, out.stats);
+  computeFreeVelocity(m, h, ws);
+}
+
+// 2. The ideal joints' rows, then the contacts that can close in the step (none
+// to look for in a model without contact pairs and clearance joints).
+void gatherStepRows(const Model& m, double h, State& s, StepWorkspace& ws) {
+  if (ws.rows_keyed) return;  // kept from the last check (beginStep): the same rows
+  appendBilateralRows(m, s, ws.rates, ws);
+  if (!hasContactSources(ws)) return;
+  if (m.settings.contact_prediction > 0) predictState(s, m.settings.contact_prediction * h, ws.predicted);
+  findContactCandidates(m, s, h, CandidateMode::Step, 0.0, s.ring_hint.data(), ws);
+  activateContacts(m, s, h, CandidateMode::Step, ws);
+}
+
+// 3-4. The Delassus operator, the problem, its solve and rescues; contacts the
+// answer closes (a light body kicked from one joint into another) join, and the
+// problem is solved again from this answer, up to kLateActivationRounds times.
+void solveStepProblem(const Model& m, double h, const State& s, bool may_halve, ResolveObserver observe,
+                      StepWorkspace& ws, StepStats& st) {
+  st.rows = ws.rows;
+  if (ws.rows == 0) {
+    ws.vnew = ws.vfree;
+    return;
+  }
+  int kept = 0, iterations = 0;
+  for (observe.round = 0;; ++observe.round) {
+    assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);
+    buildFrictionContactProblem(m, s, h, kept, ws, st);
+    const SolverReport rep = solveWithRescues(m, ws, solverOptions(m.settings), may_halve, observe, st);
+    iterations += rep.iteration_sum;
+    st.iterations = iterations;
+    st.residual = rep.residual;
+    st.converged = rep.converged;
+    if (observe.round == kLateActivationRounds) break;
+    kept = ws.rows;
+    const int added = activateLateContacts(m, s, h, ws);
+    if (added == 0) break;
+    st.late_contacts += added;
+  }
+  st.rows = ws.rows;
+}
+
+// 6. The projection, when the settings ask for it, and the potential energy it
+// adds beyond the inputs' work in the step taken back from the kinetic energy.
+// (Left in, it drove the C-60's released hook to 1e4 rad/s: the ideal-joint
+// model went from 0.19 to 0.8 J in 2.5 ms, 0.18 J with the projection off.)
+// reuse: velocityFactorReusable, asked before the update.
+void projectStep(const Model& m, double h, bool reuse, State& s, StepWorkspace& ws, StepOutputs& out) {
+  const Settings& set = m.settings;
+  StepStats& st = out.stats;
+  if (!set.projection) {
+    // Measured when asked for (stats()): it costs a geometry pass, as much as
+    // the contact search itself, and most callers never read it.
+    out.penetration_pending = true;
+    return;
+  }
+  const double pe_before = potentialEnergyOf(m, s).total();
+  const double input_work = inputWorkOfStep(m, h, ws, out, s);
+  double violation = 0;
+  st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
+                                          violation, st, reuse);
+  if (st.projection_passes > 0)
+    st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before + input_work, s);
+  st.max_penetration = 0;  // of the rows of the last pass
+  for (const ConstraintBlock& blk : ws.blocks)
+    if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.contact.cp.gap);
+}
+
+bool stateFinite(const StepWorkspace& ws, const State& s) {
+  bool finite = ws.vnew.allFinite();
+  for (const BodyState& b : s.bodies) finite = finite && b.x.allFinite() && b.q.coeffs().allFinite();
+  return finite;
+}
+
 }  // namespace
 
 Simulator::Simulator(Model model)
@@ -124,99 +216,37 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
   return total.converged ? StepStatus::Ok : StepStatus::NotConverged;
 }
 
-// One step (or substep) of length h. If it is left unsolved while it can still be
-// halved, it returns NotConverged with the State as it found it: every stage before
-// that point reads the State (const), but for the ring hints of the contact search,
-// which are put back.
+// One step (or substep) of length h, as its stages. If it is left unsolved while
+// it can still be halved, it returns NotConverged with the State as it found
+// it: every stage before that point reads the State (const), but for the ring
+// hints of the contact search, which are put back.
 StepStatus Simulator::advance(double h, int halvings, int substep) {
   const Model& m = model_;
-  const Settings& set = m.settings;
   StepWorkspace& ws = *ws_;
   StepStats& st = out_->stats;
-  const bool may_halve = halvings < set.max_step_halvings;
-  if (may_halve) ws.halving_hint = state_.ring_hint;  // same size: no allocation
-  clearStepOutputs(*out_);
-  clearConstraintRows(ws);
-  for (size_t i = 0; i < state_.commands.size(); ++i)
-    ws.rates[i] = (state_.commands[i] - state_.prev_commands[i]) / h;
-
+  const bool may_halve = halvings < m.settings.max_step_halvings;
+  beginStep(h, may_halve, state_, ws, *out_);
   // 1. forces, iteration matrix, free velocity
-  computeForces(m, state_, ws, *out_, ws.facts.stiff);
-  stateVelocities(state_, ws.vk);
-  buildIterationMatrix(m, h, ws, st);
-  computeFreeVelocity(m, h, ws);
-
+  computeFreeMotion(m, h, state_, ws, *out_);
   // 2. constraint rows: ideal joints, then the contacts that can close in the step
-  appendBilateralRows(m, state_, ws.rates, ws);
-  if (set.contact_prediction > 0) predictState(state_, set.contact_prediction * h, ws.predicted);
-  findContactCandidates(m, state_, h, CandidateMode::Step, 0.0, state_.ring_hint.data(), ws);
-  activateContacts(m, state_, h, CandidateMode::Step, ws);
-
-  // 3-4. Delassus operator, problem, solve and rescues; contacts the answer
-  // closes (a light body kicked from one joint into another) join, and the
-  // problem is solved again from this answer.
-  if (ws.rows > 0) {
-    int kept = 0, iterations = 0;
-    for (int round = 0;; ++round) {
-      assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);
-      buildFrictionContactProblem(m, state_, h, kept, ws, st);
-      const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
-      const SolverReport rep = solveWithRescues(m, ws, solverOptions(set), may_halve,
-                                                ResolveObserver{observe, state_.t, round, halvings, substep}, st);
-      iterations += rep.iteration_sum;
-      st.iterations = iterations;
-      st.residual = rep.residual;
-      st.converged = rep.converged;
-      if (round == kLateActivationRounds) break;
-      kept = ws.rows;
-      const int added = activateLateContacts(m, state_, h, ws);
-      if (added == 0) break;
-      st.late_contacts += added;
-    }
-  } else {
-    ws.vnew = ws.vfree;
-  }
-  st.rows = ws.rows;
+  gatherStepRows(m, h, state_, ws);
+  // 3-4. Delassus operator, problem, solve and rescues, contacts the answer closes
+  const ProblemObserver* observe = observer_ ? &observer_ : nullptr;
+  solveStepProblem(m, h, state_, may_halve, ResolveObserver{observe, state_.t, 0, halvings, substep}, ws, st);
   // Unsolved, and the step can still be halved: the caller takes it again.
   if (!st.converged && may_halve) {
     state_.ring_hint = ws.halving_hint;
     return StepStatus::NotConverged;
   }
   storeImpulses(m, h, state_, ws, *out_);
-
   // 5. update
+  const bool reuse = velocityFactorReusable(h, ws);
   advanceState(m, h, ws, state_);
-
   // 6. projection, and the energy it must not add
-  if (set.projection) {
-    // The projection moves positions only: the potential energy it adds beyond the
-    // inputs' work in this step is taken back from the kinetic energy. (Left in, it
-    // drove the C-60's released hook to 1e4 rad/s: the ideal-joint model went from
-    // 0.19 to 0.8 J in 2.5 ms, 0.18 J with the projection off.)
-    const double pe_before = potentialEnergyOf(m, state_).total();
-    const double input_work = inputWorkOfStep(m, h, ws, *out_, state_);
-    double violation = 0;
-    st.projection_passes = projectPositions(m, state_, ws, set.projection_max_iterations,
-                                            set.projection_tolerance, violation, st);
-    if (st.projection_passes > 0)
-      st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before + input_work, state_);
-    st.max_penetration = 0;  // of the rows of the last pass
-    for (const ConstraintBlock& blk : ws.blocks)
-      if (blk.kind != BlockKind::Bilateral)
-        st.max_penetration = std::max(st.max_penetration, -blk.contact.cp.gap);
-  } else {
-    // Measured when asked for (stats()): it costs a geometry pass, as much as
-    // the contact search itself, and most callers never read it.
-    out_->penetration_pending = true;
-  }
-  clearConstraintRows(ws);
-
+  projectStep(m, h, reuse, state_, ws, *out_);
+  if (!ws.rows_keyed) clearConstraintRows(ws);
   trackJointPositions(m, state_);
-
-  bool finite = ws.vnew.allFinite();
-  for (const BodyState& b : state_.bodies)
-    finite = finite && b.x.allFinite() && b.q.coeffs().allFinite();
-  if (!finite) return StepStatus::NonFinite;
+  if (!stateFinite(ws, state_)) return StepStatus::NonFinite;
   return st.converged ? StepStatus::Ok : StepStatus::NotConverged;
 }
 

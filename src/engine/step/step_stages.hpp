@@ -18,6 +18,11 @@ void clearStepOutputs(StepOutputs& out);
 // Drops the constraint blocks and zeroes their rows of G (the row writers rely
 // on G being zero outside the registered blocks).
 void clearConstraintRows(StepWorkspace& ws);
+// The rows now in ws kept as a memo of the state's poses, when the model's rows
+// follow the poses (ModelFacts::rows_follow_poses); else nothing.
+void keyRowsOnPoses(const State& s, StepWorkspace& ws);
+// Whether ws holds the rows of the state's poses (keyed, not cleared since).
+bool rowsMatchPoses(const State& s, const StepWorkspace& ws);
 // The state at the initial poses and velocities of the model (before assembly).
 State initialState(const Model& m, const StepWorkspace& ws);
 // Assembly (assembly.cpp): positions projected onto the constraints, then the
@@ -148,9 +153,20 @@ void setStateVelocities(State& s, const Eigen::VectorXd& v);
 
 // ---- 6. projection (projection.cpp): positions onto {g >= 0, h = 0} until the
 // violation is below tol or max_passes; returns the passes, writes the remaining
-// violation. Updates s (positions and ring hints).
+// violation. Updates s (positions and ring hints). reuse: the first pass may
+// take the velocity stage's operator (velocityFactorReusable says when).
 int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
-                     double& violation, StepStats& st);
+                     double& violation, StepStats& st, bool reuse = false);
+// After the velocity stage, before anything else assembles or solves: whether
+// the first projection pass may take its Y = M^-1 G_k^T and the solver's LDLᵀ
+// factor of its W_k = G_k M^-1 G_k^T (q_k) in place of its own at q_{k+1}. A
+// chord Newton step: the same rows, but for the configuration they are
+// evaluated at; its correction lowers the violation by the rows' turn over the
+// step (h |w|) where Newton's squares it, and the check after it measures the
+// exact violation (a pass more where it falls short). True for a model of ideal
+// joints alone (no contact rows to come and go) without stiff elements (Ŵ =
+// M^-1) whose bodies turn by less than 0.02 rad in the step.
+bool velocityFactorReusable(double h, const StepWorkspace& ws);
 // Largest penetration of the unilateral contacts (positive length) of the state;
 // the largest bilateral position error goes to *bilateral if given. Uses a copy
 // of the state's ring hints: the state is not changed.

@@ -99,6 +99,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
     const int body = ac.joint >= 0 ? m.joints[ac.joint].body_b : ac.body;
     if (body >= 0) f.prescribed_body[body] = 1;
   }
+  f.rows_follow_poses = f.contact_slots == 0;
+  for (const Actuator& ac : m.actuators) f.rows_follow_poses = f.rows_follow_poses && ac.type != ActuatorType::Prescribed;
   ws.max_rows = f.bilateral_rows + 3 * f.contact_slots;
   const int mr = std::max(ws.max_rows, 1);
   ws.F = Eigen::VectorXd::Zero(n);
@@ -110,6 +112,8 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.mass_inverse = Eigen::MatrixXd::Zero(n, n);
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
+  ws.rows_key.resize(m.bodies.size());
+  ws.rows_keyed = false;
   ws.saved_dq.setZero(ws.n);
   ws.retry_P.setZero(mr);
   ws.retry_b.setZero(mr);
@@ -181,6 +185,23 @@ void clearConstraintRows(StepWorkspace& ws) {
     }
   ws.blocks.clear();
   ws.rows = 0;
+  ws.rows_keyed = false;
+}
+
+void keyRowsOnPoses(const State& s, StepWorkspace& ws) {
+  if (!ws.facts.rows_follow_poses) return;
+  for (int i = 0; i < ws.nbodies; ++i) {
+    ws.rows_key[i].x = s.bodies[i].x;
+    ws.rows_key[i].q = s.bodies[i].q;
+  }
+  ws.rows_keyed = true;
+}
+
+bool rowsMatchPoses(const State& s, const StepWorkspace& ws) {
+  if (!ws.rows_keyed) return false;
+  for (int i = 0; i < ws.nbodies; ++i)
+    if (s.bodies[i].x != ws.rows_key[i].x || s.bodies[i].q.coeffs() != ws.rows_key[i].q.coeffs()) return false;
+  return true;
 }
 
 void initStepOutputs(const Model& m, StepOutputs& out) {

@@ -2,7 +2,8 @@
 // stages share (StepWorkspace), what a step reports (StepOutputs), and the
 // constraint rows they pass along. Dynamic state lives in State (simulator.hpp);
 // nothing here carries information from one step to the next, except outputs
-// and the narrowphase memo, keyed on the poses (narrowphase_cache.hpp).
+// and two memos keyed on the poses: the narrowphase's (narrowphase_cache.hpp)
+// and, in a model of ideal joints alone, the rows of the last gather.
 // The stage functions are declared in step_stages.hpp.
 #pragma once
 
@@ -85,6 +86,9 @@ struct ModelFacts {
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
   std::vector<char> prescribed_body;
+  // Ideal joints alone (no contact pairs, clearance joints or prescribed
+  // motions): the rows of a gather depend on the bodies' poses alone.
+  bool rows_follow_poses = false;
 };
 
 class StepWorkspace {
@@ -118,6 +122,8 @@ class StepWorkspace {
   Eigen::VectorXd dq;            // projection: the displacement of a pass
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
+  // Projection: its last pass took the velocity stage's factor (velocityFactorReusable).
+  bool projection_reused_factor = false;
   Eigen::VectorXd retry_P, retry_b;     // impact safeguards: the answer a plastic retry may replace
   State predicted;  // q_k advanced by ahead * v_k: where the contact rows are evaluated
   std::vector<Vec3> omega_world;  // activation: each body's q * w (world angular velocity)
@@ -143,6 +149,11 @@ class StepWorkspace {
   Eigen::VectorXd P_start;  // the warm start, kept only for a ProblemObserver
   FrictionContactSolver solver;
   int rows = 0;
+  // The rows above as a memo of the poses they were gathered at (keyRowsOnPoses;
+  // models whose rows follow the poses): the projection's last check is the next
+  // step's velocity rows. Dropped with the rows (clearConstraintRows).
+  std::vector<BodyState> rows_key;
+  bool rows_keyed = false;
 
   // The shape pairs' points of the projection's last pass, for the next step's
   // (keyed on the poses: a memo, not state).
@@ -161,6 +172,10 @@ struct StepOutputs {
   std::vector<Vec3> pair_ft_vec;         // summed tangential force per contact pair
   std::vector<double> cj_fn;             // per clearance joint
 };
+
+// Contact pairs or clearance joints: contact rows can join a problem (else
+// every problem of the model is its ideal joints' and prescribed motions' rows).
+inline bool hasContactSources(const StepWorkspace& ws) { return ws.facts.contact_slots > 0; }
 
 // The state of a body, or of ground (identity pose, at rest) for kGround.
 inline const BodyState& bodyOrGround(const State& s, int body) {
