@@ -185,4 +185,22 @@ inline std::string clearancePendulumScene(double cr, double mu, double rj, doubl
 </robot>)";
 }
 
+// A bar (0.1 kg, 0.2 m, COM 0.1 m from the pivot; J about the hinge 3.3e-4 + 0.1 * 0.1^2)
+// on a vertical hinge, no gravity; `nscd` is the whole content of its <nscd> (actuators,
+// initial positions, <simulation>).
+inline std::string crankScene(const std::string& nscd) {
+  return R"(<?xml version="1.0"?>
+<robot name="crank">
+  <link name="world"/>
+  <link name="bar">
+    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
+      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
+  </link>
+  <joint name="hinge" type="continuous">
+    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
+  </joint>
+  <nscd>)" + nscd + R"(</nscd>
+</robot>)";
+}
+
 }  // namespace nscd_test

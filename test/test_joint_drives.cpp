@@ -9,26 +9,17 @@
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "physics_scenes.hpp"
 
 using namespace nscd;
+using nscd_test::crankScene;
 
 namespace {
 
 // A bar (0.1 kg, 0.2 m, COM 0.1 m from the pivot) on a vertical hinge, no gravity,
 // with `nscd` (an actuator on the hinge, an initial position) in its <nscd>.
 Simulator crank(const std::string& nscd) {
-  const std::string urdf = R"(<?xml version="1.0"?>
-<robot name="crank">
-  <link name="world"/>
-  <link name="bar">
-    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
-      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
-  </link>
-  <joint name="hinge" type="continuous">
-    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
-  </joint>
-  <nscd>)" + nscd + R"(<simulation dt="1e-4" gravity="0 0 0"/></nscd>
-</robot>)";
+  const std::string urdf = crankScene(nscd + R"(<simulation dt="1e-4" gravity="0 0 0"/>)");
   return Simulator(loadSceneFromString(urdf, "crank.urdf"));
 }
 

@@ -348,19 +348,9 @@ TEST(StepControl, StepsEndAtScheduleCornersAndTheEnd) {
 // (Interpolated from the initial 0, each step cut short pulled the command back
 // towards 0 and the controller ran to the floor at the start.)
 TEST(StepControl, ScheduleJumpsAreTakenAtTheStepStart) {
-  const std::string urdf = R"(<?xml version="1.0"?>
-<robot name="crank">
-  <link name="world"/>
-  <link name="bar">
-    <inertial><origin xyz="0.1 0 0"/><mass value="0.1"/>
-      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="3.3e-4" iyz="0" izz="3.3e-4"/></inertial>
-  </link>
-  <joint name="hinge" type="continuous">
-    <parent link="world"/><child link="bar"/><axis xyz="0 0 1"/>
-  </joint>
-  <nscd><actuator name="spin" type="torque" link="bar" axis="0 0 2" schedule="0:0.01,0.1:0.01,0.1:0"/>
-  <simulation dt="1e-2" gravity="0 0 0"/></nscd>
-</robot>)";
+  const std::string urdf = crankScene(
+      R"(<actuator name="spin" type="torque" link="bar" axis="0 0 2" schedule="0:0.01,0.1:0.01,0.1:0"/>
+  <simulation dt="1e-2" gravity="0 0 0"/>)");
   Simulator sim(loadSceneFromString(urdf, "crank.urdf", adaptive(1e-6, 1e-2)));
   const std::vector<BoundSchedule> sched = bindCommandSchedules({}, sim.model());
   ASSERT_EQ(sched.size(), 1u);
