@@ -413,6 +413,17 @@ FIGS = [('bench force at 2 mm [N]', lambda r: r['bench']['equilibrium_force_N'],
         ('a joint comes apart [ms]', lambda r: r['trip'].get('joint_apart_ms'), '%.2f')]
 
 
+def git_commit():
+    """The repository's commit, +changes when the tree differs from it."""
+    try:
+        c = subprocess.run(['git', '-C', REPO, 'rev-parse', '--short', 'HEAD'], capture_output=True, text=True,
+                           check=True).stdout.strip()
+        dirty = subprocess.run(['git', '-C', REPO, 'diff', '--quiet', 'HEAD', '--']).returncode != 0
+        return c + ('+changes' if dirty else '')
+    except (OSError, subprocess.CalledProcessError):
+        return 'unknown'
+
+
 def pol_cell(p):
     return '%.2f@%.0f°' % (p['ecc'], p['dir_deg'])
 
@@ -431,7 +442,9 @@ def report(a):
          '`scripts/c60_model/c60_scene.py` writes; every figure as `scripts/analysis/c60_trip_figures.py` (trip) and',
          '`scripts/analysis/c60_plot.py` (bench) define it. Trip: probe at 0.2 m/s from 0.7 ms, 20.7 ms,',
          'dt 1e-5. Bench: the table pushes the moving contact 2 mm off the fixed contact and back',
-         '(`scripts/c60_bench.sh`). Nothing is tuned per case; the calibrated P3 preload is kept.', '']
+         '(`scripts/c60_bench.sh`). Nothing is tuned per case; the calibrated P3 preload is kept.', '',
+         'Made by `scripts/analysis/c60_clearance_study.py --backend %s` (%s, commit %s).' % (
+             a.backend, time.strftime('%Y-%m-%d', time.gmtime()), git_commit()), '']
     if walls:
         L.append('**Wall time of the whole study**: %s (%d cases, each a trip and a bench: %d nscd_run runs).' % (
             ' + '.join('%.0f s (shard of %d cases on %d workers)' % (w['wall_s'], w['cases'], w['jobs']) for w in walls),

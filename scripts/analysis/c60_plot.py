@@ -160,12 +160,22 @@ def handle(d, png):
     ang = yaw(d, 'handle')
     ang = np.degrees(ang - ang[0])
     gap = d['C7.gap']
+    t_open = first_time(t, (t > 0.002) & (gap > 1e-5))   # after the settling closed it
+    plate = yaw(d, 'plate')
+    plate = np.degrees(plate - plate[0])
+    effort = np.abs(d['handle.effort'])
+    back = t > d['t'][np.argmax(d['handle.cmd'])]           # the command on its way back
+    sat = back & (effort >= 0.999 * effort.max())
     res = {'handle_max_deg': round(float(ang.max()), 2), 'handle_end_deg': round(float(ang[-1]), 2),
-           'c7_open_s': first_time(t, (t > 0.002) & (gap > 1e-5)),   # after the settling closed it
+           'c7_open_s': t_open,
            'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3),
            'c7_gap_max_mm': round(float(1e3 * gap.max()), 3),
+           'c7_reclosed_s': first_time(t, (t > (t_open or t[-1])) & (gap < 1e-6)),
            'c4_gap_end_mm': round(float(1e3 * min(group_gap(d, 'C4')[-1], 1.0)), 3),
-           'effort_max_Nm': round(float(np.abs(d['handle.effort']).max()), 4)}
+           'plate_max_deg': round(float(plate.max()), 2), 'plate_end_deg': round(float(plate[-1]), 2),
+           'effort_max_Nm': round(float(effort.max()), 4),
+           'saturated_on_the_way_back_s': first_time(t, sat),
+           'handle_deg_when_saturated': round(float(ang[np.nonzero(sat)[0][0]]), 2) if sat.any() else None}
     if png:
         plt = plt_module()
         fig, ax = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
@@ -206,7 +216,14 @@ def rest(d, png):
                   'spread': round(float(np.ptp(d[n + '.fn'][half])), 5)} for n in names}
     gaps = {n[:-4]: round(float(1e6 * d[n][-1]), 4) for n in d.dtype.names
             if n.endswith('.gap') and np.isfinite(d[n][-1])}
-    return {'window_s': [float(t[i0]), float(t[-1])], 'drift': drift, 'forces_N': forces, 'gaps_um': gaps,
+    # The settling: each part's turn and centre-of-mass displacement from the published ON
+    # pose (the first row) to 4 ms, when the joints have taken up their clearances.
+    k4 = int(np.argmin(np.abs(t - 0.004)))
+    settling = {b: {'yaw_deg': round(float(np.degrees(yaw(d, b)[k4] - yaw(d, b)[0])), 3),
+                    'com_moved_um': round(float(1e6 * math.sqrt(sum((d[b + '.' + c][k4] - d[b + '.' + c][0]) ** 2
+                                                                     for c in 'xyz'))), 1)} for b in BODIES}
+    return {'window_s': [float(t[i0]), float(t[-1])], 'settling_to_4ms': settling, 'drift': drift,
+            'forces_N': forces, 'gaps_um': gaps,
             'latched': bool(group_gap(d, 'C4')[-1] < 1e-6 and d['C7.gap'][-1] < 1e-6),
             'polarisation': polarisation(d, len(t) - 1)}
 
