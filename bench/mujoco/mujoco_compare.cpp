@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../../tools/command_line.hpp"
 #include "compare_models.hpp"
 
 using namespace nscd_mujoco;
@@ -58,13 +59,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> single;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return nscd_cli::optionValue(a, argc, argv, i); };
     if (a == "--out") out = next();
     else if (a == "--source") src = next();
     else if (a == "--scenes") scene_list = next();
@@ -96,11 +91,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::vector<const SceneSpec*> chosen;
-    for (size_t p = 0; p <= scene_list.size();) {
-      const size_t q = std::min(scene_list.find(',', p), scene_list.size());
-      chosen.push_back(&sceneNamed(scene_list.substr(p, q - p)));
-      p = q + 1;
-    }
+    for (const std::string& name : nscd_cli::splitCommas(scene_list)) chosen.push_back(&sceneNamed(name));
     FILE* runs = std::fopen((out + "/runs.csv").c_str(), "w");
     FILE* refs = std::fopen((out + "/references.csv").c_str(), "w");
     if (!runs || !refs) {

@@ -38,6 +38,7 @@ extern "C" {
 #include <string>
 #include <vector>
 
+#include "../command_line.hpp"
 #include "compressed_matrix.hpp"
 #include "condense_problem.hpp"
 #include "read_fclib_problem.hpp"
@@ -188,18 +189,6 @@ double timeIt(Solve solve, double min_ms) {
   return best;
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  size_t a = 0;
-  while (a <= s.size()) {
-    const size_t b = s.find(',', a);
-    out.push_back(s.substr(a, b == std::string::npos ? std::string::npos : b - a));
-    if (b == std::string::npos) break;
-    a = b + 1;
-  }
-  return out;
-}
-
 void printRow(FILE* f, const Row& r, bool csv) {
   if (csv) {
     std::fprintf(f, "%s,%d,%s,%.0e,%ld,%.3e,%.3e,%.4g,%d\n", r.problem.c_str(), r.contacts,
@@ -314,16 +303,10 @@ int main(int argc, char** argv) {
   std::vector<const char*> files;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return nscd_cli::optionValue(a, argc, argv, i); };
     if (a == "--tol") {
       tols.clear();
-      for (const std::string& s : split(next())) tols.push_back(std::atof(s.c_str()));
+      for (const std::string& s : nscd_cli::splitCommas(next())) tols.push_back(std::atof(s.c_str()));
     } else if (a == "--max-iter") max_iter = std::atol(next().c_str());
     else if (a == "--min-ms") min_ms = std::atof(next().c_str());
     else if (a == "--csv") csv_path = next();
@@ -331,7 +314,7 @@ int main(int argc, char** argv) {
     else if (a == "--siconos-storage") storage = next();
     else if (a == "--siconos") {
       const std::string s = next();
-      siconos_names = s == "none" ? std::vector<std::string>{} : split(s);
+      siconos_names = s == "none" ? std::vector<std::string>{} : nscd_cli::splitCommas(s);
     } else if (a == "--convert") {
       convert_in = next();
       convert_out = next();
