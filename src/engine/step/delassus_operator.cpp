@@ -36,9 +36,12 @@ inline __m128d dot6x2(const __m128d* a01, const double* b) {
 }
 #endif
 
-// Bodies of each row (kGround = none), and the bodies where its column of Y can
-// be nonzero (its bodies' coupled groups; all of them past 64 bodies).
-void tagRowBodies(bool block_diagonal, StepWorkspace& ws) {
+}  // namespace
+
+void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
+                      StepWorkspace& ws, int from, int r) {
+  // Bodies of each row (kGround = none), and the bodies where its column of Y
+  // can be nonzero (its bodies' coupled groups; all of them past 64 bodies).
   const bool masks = ws.nbodies <= 64;
   for (const ConstraintBlock& blk : ws.blocks) {
     const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
@@ -51,11 +54,6 @@ void tagRowBodies(bool block_diagonal, StepWorkspace& ws) {
       ws.row_support[blk.row + k] = support;
     }
   }
-}
-
-// Columns from..r-1 of Y = Ŵ Gᵀ, from the 6-column pieces of G's rows.
-void formY(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal, StepWorkspace& ws, int from,
-           int r) {
   const int n = ws.n;
   for (int i = from; i < r; ++i) {
     auto y = ws.Y.col(i).head(n);
@@ -72,133 +70,94 @@ void formY(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal, StepWo
         y.segment<6>(6 * c).noalias() += iteration_inverse.block<6, 6>(6 * c, 6 * body) * g;
     }
   }
-}
-
-// A block's pieces of G (one per body it touches, at most two), copied out of G's
-// strided rows, with each body's column offset and support bit.
-struct BlockPieces {
-  int row = 0, size = 0;  // the block's first row and its row count (<= 6)
-  int count = 0;          // pieces: bodies the block touches
-  int off[2];
-  std::uint64_t bit[2];
-  double g[6][2][6];  // g[row in block][piece][column]
-};
-
-void gatherBlockPieces(const StepWorkspace& ws, const ConstraintBlock& blk, BlockPieces& p) {
-  const bool masks = ws.nbodies <= 64;
-  p.row = blk.row;
-  p.size = blk.size;
-  p.count = 0;
-  for (int body : ws.row_bodies[p.row]) {
-    if (body == kGround) continue;
-    const int q = p.count;
-    p.off[q] = 6 * body;
-    p.bit[q] = masks ? std::uint64_t{1} << body : ~std::uint64_t{0};
-    for (int a = 0; a < p.size; ++a)
-      for (int k = 0; k < 6; ++k) p.g[a][q][k] = ws.G(p.row + a, 6 * body + k);
-    ++p.count;
-  }
-}
-
-// W's entries of a 3-row block (a frictional contact, most rows) against every
-// earlier row j0 < its first: fixed-size loops, two rows at a time with SSE2.
-void fillContactBlockBeforeIt(const BlockPieces& p, StepWorkspace& ws) {
-  const int i0 = p.row, np = p.count;
   const double* Y = ws.Y.data();
   const Eigen::Index ldy = ws.Y.outerStride();
-#if defined(__SSE2__)
-  // Rows 0 and 1 of the block in the two lanes of one vector (bit for bit the
-  // scalar sums: lanes do not mix), row 2 alone.
-  __m128d g01[2][6];
-  for (int q = 0; q < np; ++q)
-    for (int k = 0; k < 6; ++k) g01[q][k] = _mm_set_pd(p.g[1][q][k], p.g[0][q][k]);
-#endif
-  const std::uint64_t touched = np == 2 ? p.bit[0] | p.bit[1] : np == 1 ? p.bit[0] : 0;
-  for (int j0 = 0; j0 < i0; ++j0) {
-    const std::uint64_t support = ws.row_support[j0];
-    double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
-    if (!(support & touched)) {
-      // Column j0 of Y is zero on this block's bodies (most pairs of rows):
-      // the sums below would be +0 (they start at +0 and add nothing).
-      wc[i0] = wc[i0 + 1] = wc[i0 + 2] = 0.0;
-      ws.W(j0, i0) = ws.W(j0, i0 + 1) = ws.W(j0, i0 + 2) = 0.0;
-      continue;
-    }
-    const double* yj = Y + j0 * ldy;
-#if defined(__SSE2__)
-    __m128d w01 = _mm_setzero_pd();
-    double w2 = 0;
-    for (int q = 0; q < np; ++q) {
-      if (!(support & p.bit[q])) continue;
-      const double* y = yj + p.off[q];
-      w01 = _mm_add_pd(w01, dot6x2(g01[q], y));
-      w2 += dot6(p.g[2][q], y);
-    }
-    double w01s[2];
-    _mm_storeu_pd(w01s, w01);
-    const double w0 = w01s[0], w1 = w01s[1];
-#else
-    double w0 = 0, w1 = 0, w2 = 0;
-    for (int q = 0; q < np; ++q) {
-      if (!(support & p.bit[q])) continue;
-      const double* y = yj + p.off[q];
-      w0 += dot6(p.g[0][q], y);
-      w1 += dot6(p.g[1][q], y);
-      w2 += dot6(p.g[2][q], y);
-    }
-#endif
-    wc[i0] = w0;
-    wc[i0 + 1] = w1;
-    wc[i0 + 2] = w2;
-    ws.W(j0, i0) = w0;
-    ws.W(j0, i0 + 1) = w1;
-    ws.W(j0, i0 + 2) = w2;
-  }
-}
-
-// W's entries of a block against rows j0 .. its last (W_ij for i >= j only, and
-// its mirror), any block size.
-void fillBlockColumns(const BlockPieces& p, int j0, StepWorkspace& ws) {
-  const int i0 = p.row, size = p.size;
-  const double* Y = ws.Y.data();
-  const Eigen::Index ldy = ws.Y.outerStride();
-  for (int j = j0; j < i0 + size; ++j) {
-    // A piece against a body where column j of Y is zero adds +-0 to a sum that
-    // starts at +0: skipping it leaves W bit for bit the same.
-    const std::uint64_t support = ws.row_support[j];
-    const double* yj = Y + j * ldy;
-    const int first = j > i0 ? j - i0 : 0;
-    double w[6] = {0, 0, 0, 0, 0, 0};
-    for (int q = 0; q < p.count; ++q) {
-      if (!(support & p.bit[q])) continue;
-      const double* y = yj + p.off[q];
-      for (int a = first; a < size; ++a) w[a] += dot6(p.g[a][q], y);
-    }
-    for (int a = first; a < size; ++a) {
-      ws.W(i0 + a, j) = w[a];
-      ws.W(j, i0 + a) = w[a];
-    }
-  }
-}
-
-}  // namespace
-
-void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
-                      StepWorkspace& ws, int from, int r) {
-  tagRowBodies(block_diagonal, ws);
-  formY(iteration_inverse, block_diagonal, ws, from, r);
   // Block by block: a block's rows share their bodies, so each piece of Y's
   // column j is loaded and tested once for all of them.
-  BlockPieces pieces;
   for (const ConstraintBlock& blk : ws.blocks) {
     if (blk.row < from || blk.row >= r) continue;
-    gatherBlockPieces(ws, blk, pieces);
-    int j0 = 0;
-    if (blk.size == 3) {
-      fillContactBlockBeforeIt(pieces, ws);
-      j0 = blk.row;
+    const int i0 = blk.row, size = blk.size;
+    // The block's pieces of G (one per body it touches), copied out of G's strided rows.
+    int off[2];
+    std::uint64_t bit[2];
+    double g[6][2][6];
+    int np = 0;
+    for (int body : ws.row_bodies[i0]) {
+      if (body == kGround) continue;
+      off[np] = 6 * body;
+      bit[np] = masks ? std::uint64_t{1} << body : ~std::uint64_t{0};
+      for (int a = 0; a < size; ++a)
+        for (int k = 0; k < 6; ++k) g[a][np][k] = ws.G(i0 + a, 6 * body + k);
+      ++np;
     }
-    fillBlockColumns(pieces, j0, ws);
+    int j0 = 0;
+    if (size == 3) {  // frictional contacts, most rows: fixed-size loops below the block
+#if defined(__SSE2__)
+      // Rows 0 and 1 of the block in the two lanes of one vector (bit for bit the
+      // scalar sums: lanes do not mix), row 2 alone.
+      __m128d g01[2][6];
+      for (int q = 0; q < np; ++q)
+        for (int k = 0; k < 6; ++k) g01[q][k] = _mm_set_pd(g[1][q][k], g[0][q][k]);
+#endif
+      const std::uint64_t touched = np == 2 ? bit[0] | bit[1] : np == 1 ? bit[0] : 0;
+      for (; j0 < i0; ++j0) {
+        const std::uint64_t support = ws.row_support[j0];
+        double* wc = &ws.W(0, j0);  // column j0: W_ij0 (= W_j0i)
+        if (!(support & touched)) {
+          // Column j0 of Y is zero on this block's bodies (most pairs of rows):
+          // the sums below would be +0 (they start at +0 and add nothing).
+          wc[i0] = wc[i0 + 1] = wc[i0 + 2] = 0.0;
+          ws.W(j0, i0) = ws.W(j0, i0 + 1) = ws.W(j0, i0 + 2) = 0.0;
+          continue;
+        }
+        const double* yj = Y + j0 * ldy;
+#if defined(__SSE2__)
+        __m128d w01 = _mm_setzero_pd();
+        double w2 = 0;
+        for (int q = 0; q < np; ++q) {
+          if (!(support & bit[q])) continue;
+          const double* y = yj + off[q];
+          w01 = _mm_add_pd(w01, dot6x2(g01[q], y));
+          w2 += dot6(g[2][q], y);
+        }
+        double w01s[2];
+        _mm_storeu_pd(w01s, w01);
+        const double w0 = w01s[0], w1 = w01s[1];
+#else
+        double w0 = 0, w1 = 0, w2 = 0;
+        for (int q = 0; q < np; ++q) {
+          if (!(support & bit[q])) continue;
+          const double* y = yj + off[q];
+          w0 += dot6(g[0][q], y);
+          w1 += dot6(g[1][q], y);
+          w2 += dot6(g[2][q], y);
+        }
+#endif
+        wc[i0] = w0;
+        wc[i0 + 1] = w1;
+        wc[i0 + 2] = w2;
+        ws.W(j0, i0) = w0;
+        ws.W(j0, i0 + 1) = w1;
+        ws.W(j0, i0 + 2) = w2;
+      }
+    }
+    for (int j = j0; j < i0 + size; ++j) {
+      // A piece against a body where column j of Y is zero adds +-0 to a sum that
+      // starts at +0: skipping it leaves W bit for bit the same.
+      const std::uint64_t support = ws.row_support[j];
+      const double* yj = Y + j * ldy;
+      const int first = j > i0 ? j - i0 : 0;  // W_ij for i >= j only
+      double w[6] = {0, 0, 0, 0, 0, 0};
+      for (int q = 0; q < np; ++q) {
+        if (!(support & bit[q])) continue;
+        const double* y = yj + off[q];
+        for (int a = first; a < size; ++a) w[a] += dot6(g[a][q], y);
+      }
+      for (int a = first; a < size; ++a) {
+        ws.W(i0 + a, j) = w[a];
+        ws.W(j, i0 + a) = w[a];
+      }
+    }
   }
 }
 
