@@ -43,6 +43,16 @@ void randomMechanism(std::mt19937& rng, int m, int ndof, MatrixXd& W, VectorXd& 
   if (Gout) *Gout = G;
 }
 
+// W = G G^T (unit masses) of rows G edited after randomMechanism, and b = G v
+// (consistent) for a new random v.
+void problemOfRows(std::mt19937& rng, const MatrixXd& G, MatrixXd& W, VectorXd& b) {
+  W = G * G.transpose();
+  std::normal_distribution<double> g(0, 1);
+  VectorXd v(G.cols());
+  for (int i = 0; i < G.cols(); ++i) v(i) = g(rng);
+  b = G * v;
+}
+
 std::vector<ProblemBlock> bilateralBlocks(int m, int size) {
   std::vector<ProblemBlock> blocks;
   for (int r = 0; r < m; r += size) blocks.push_back({BlockKind::Bilateral, r, std::min(size, m - r), 0});
@@ -213,11 +223,7 @@ TEST(EqualitySolve, NearlyDependentAndInconsistentRows) {
   randomMechanism(rng, 8, 12, W, b, &G);
   G.row(5) = G.row(2);
   G(5, 4) += 1e-6 * G.row(2).norm();  // pivot about 1e-12 of the row's diagonal
-  W = G * G.transpose();
-  std::normal_distribution<double> g(0, 1);
-  VectorXd v(12);
-  for (int i = 0; i < 12; ++i) v(i) = g(rng);
-  b = G * v;
+  problemOfRows(rng, G, W, b);
   FrictionContactSolver solver;
   VectorXd P = VectorXd::Zero(8);
   SolverOptions o;
@@ -251,11 +257,7 @@ TEST(EqualitySolve, RowScalesNineDecadesApart) {
   VectorXd b;
   randomMechanism(rng, 10, 14, W, b, &G);
   for (int i = 0; i < 10; i += 2) G.row(i) *= 3e4;  // W_ii up to 1e9 times the others
-  W = G * G.transpose();
-  std::normal_distribution<double> g(0, 1);
-  VectorXd v(14);
-  for (int i = 0; i < 14; ++i) v(i) = g(rng);
-  b = G * v;
+  problemOfRows(rng, G, W, b);
   FrictionContactSolver solver;
   VectorXd P = VectorXd::Zero(10);
   SolverOptions o;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../../tools/command_line.hpp"
 #include "compare_models.hpp"
 
 using namespace nscd_mujoco;
@@ -49,94 +50,101 @@ RunResult run(const std::string& src, const SceneSpec& s, Method m, double setti
   return isMujoco(m) ? runMujoco(src, s, m, setting, o) : runNscd(src, s, m, setting, o);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+struct Options {
   std::string out = ".", src = NSCD_SOURCE_DIR, scene_list = "pendulum,double_pendulum,fourbar,ball";
   bool quick = false;
-  RunOptions o;
-  std::vector<std::string> single;
+  RunOptions run;
+  std::vector<std::string> single;  // --single: scene, method, setting
+};
+
+// False after the usage line (an unknown option).
+bool parseOptions(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--out") out = next();
-    else if (a == "--source") src = next();
-    else if (a == "--scenes") scene_list = next();
-    else if (a == "--quick") quick = true;
-    else if (a == "--min-seconds") o.min_seconds = std::atof(next().c_str());
-    else if (a == "--steps") o.fixed_steps = std::atol(next().c_str());
+    auto next = [&] { return nscd_cli::optionValue(a, argc, argv, i); };
+    if (a == "--out") o.out = next();
+    else if (a == "--source") o.src = next();
+    else if (a == "--scenes") o.scene_list = next();
+    else if (a == "--quick") o.quick = true;
+    else if (a == "--min-seconds") o.run.min_seconds = std::atof(next().c_str());
+    else if (a == "--steps") o.run.fixed_steps = std::atol(next().c_str());
     else if (a == "--single") {
-      single = {next(), next(), next()};
+      o.single = {next(), next(), next()};
     } else {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--quick] [--scenes pendulum,double_pendulum,fourbar,ball] "
                    "[--min-seconds S] [--source DIR]\n"
                    "       %s --single SCENE METHOD SETTING --steps N\n",
                    argv[0], argv[0]);
-      return 2;
+      return false;
     }
   }
+  return true;
+}
+
+// One run, once: what callgrind counts (scripts/mujoco_compare.sh --instructions).
+int runSingle(Options o) {
+  o.run.max_repetitions = 1;
+  const RunResult r = run(o.src, sceneNamed(o.single[0]), methodNamed(o.single[1]), std::atof(o.single[2].c_str()), o.run);
+  if (!r.error.empty()) {
+    std::fprintf(stderr, "%s\n", r.error.c_str());
+    return 1;
+  }
+  std::printf("%s %s %s steps=%ld wall_s=%.6g\n", o.single[0].c_str(), o.single[1].c_str(), o.single[2].c_str(),
+              r.steps, r.wall_s);
+  return 0;
+}
+
+// Every grid's runs on scene s, one level of the grids at a time, each compared with
+// the reference; a row each in runs and on standard output, the reference's self-check in refs.
+void runScene(const SceneSpec& s, const std::vector<Grid>& gs, const Options& o, FILE* runs, FILE* refs) {
+  const RunOptions& ro = o.run;
+  const EndState ref = referenceEnd(s.id, ro.duration);
+  const Errors self = referenceSelfCheck(s.id, ro.duration);
+  std::fprintf(refs, "%s,%g,%.3g,%.3g\n", s.name, ro.duration, self.angle, self.position);
+  size_t levels = 0;
+  for (const Grid& g : gs) levels = std::max(levels, g.settings.size());
+  for (size_t level = 0; level < levels; ++level)
+    for (const Grid& g : gs) {
+      if (level >= g.settings.size()) continue;
+      const double setting = g.settings[level];
+      const RunResult r = run(o.src, s, g.method, setting, ro);
+      const Errors e = r.error.empty() ? compareEnd(r.end, ref) : Errors{NAN, NAN};
+      std::string err = r.error;
+      for (char& c : err)
+        if (c == ',' || c == '\n') c = ';';
+      std::fprintf(runs, "%s,%s,%g,%ld,%ld,%ld,%d,%.6g,%.6g,%.6g,%.4g,%.4g,%s\n", s.name,
+                   methodName(g.method), setting, r.steps, r.rejected, r.unconverged, r.repetitions, r.wall_s,
+                   r.cpu_s, r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.c_str());
+      std::fflush(runs);
+      std::printf("%-16s %-14s %-8g steps %-7ld wall %9.3f ms  %8.3f us/step  angle err %.3e  pos err %.3e%s%s\n",
+                  s.name, methodName(g.method), setting, r.steps, 1e3 * r.wall_s,
+                  r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.empty() ? "" : "  ERROR: ",
+                  err.c_str());
+      std::fflush(stdout);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parseOptions(argc, argv, o)) return 2;
   try {
-    if (!single.empty()) {
-      // One run, once: what callgrind counts (scripts/mujoco_compare.sh --instructions).
-      o.max_repetitions = 1;
-      const RunResult r = run(src, sceneNamed(single[0]), methodNamed(single[1]), std::atof(single[2].c_str()), o);
-      if (!r.error.empty()) {
-        std::fprintf(stderr, "%s\n", r.error.c_str());
-        return 1;
-      }
-      std::printf("%s %s %s steps=%ld wall_s=%.6g\n", single[0].c_str(), single[1].c_str(), single[2].c_str(),
-                  r.steps, r.wall_s);
-      return 0;
-    }
+    if (!o.single.empty()) return runSingle(o);
     std::vector<const SceneSpec*> chosen;
-    for (size_t p = 0; p <= scene_list.size();) {
-      const size_t q = std::min(scene_list.find(',', p), scene_list.size());
-      chosen.push_back(&sceneNamed(scene_list.substr(p, q - p)));
-      p = q + 1;
-    }
-    FILE* runs = std::fopen((out + "/runs.csv").c_str(), "w");
-    FILE* refs = std::fopen((out + "/references.csv").c_str(), "w");
+    for (const std::string& name : nscd_cli::splitCommas(o.scene_list)) chosen.push_back(&sceneNamed(name));
+    FILE* runs = std::fopen((o.out + "/runs.csv").c_str(), "w");
+    FILE* refs = std::fopen((o.out + "/references.csv").c_str(), "w");
     if (!runs || !refs) {
-      std::fprintf(stderr, "cannot write into %s\n", out.c_str());
+      std::fprintf(stderr, "cannot write into %s\n", o.out.c_str());
       return 1;
     }
     std::fprintf(runs, "scene,method,setting,steps,rejected,unconverged,repetitions,wall_s,cpu_s,us_per_step,"
                        "err_angle,err_pos,error\n");
     std::fprintf(refs, "scene,t,self_check_angle,self_check_pos\n");
-    const std::vector<Grid> gs = grids(quick);
-    for (const SceneSpec* s : chosen) {
-      const EndState ref = referenceEnd(s->id, o.duration);
-      const Errors self = referenceSelfCheck(s->id, o.duration);
-      std::fprintf(refs, "%s,%g,%.3g,%.3g\n", s->name, o.duration, self.angle, self.position);
-      size_t levels = 0;
-      for (const Grid& g : gs) levels = std::max(levels, g.settings.size());
-      for (size_t level = 0; level < levels; ++level)
-        for (const Grid& g : gs) {
-          if (level >= g.settings.size()) continue;
-          const double setting = g.settings[level];
-          const RunResult r = run(src, *s, g.method, setting, o);
-          const Errors e = r.error.empty() ? compareEnd(r.end, ref) : Errors{NAN, NAN};
-          std::string err = r.error;
-          for (char& c : err)
-            if (c == ',' || c == '\n') c = ';';
-          std::fprintf(runs, "%s,%s,%g,%ld,%ld,%ld,%d,%.6g,%.6g,%.6g,%.4g,%.4g,%s\n", s->name,
-                       methodName(g.method), setting, r.steps, r.rejected, r.unconverged, r.repetitions, r.wall_s,
-                       r.cpu_s, r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.c_str());
-          std::fflush(runs);
-          std::printf("%-16s %-14s %-8g steps %-7ld wall %9.3f ms  %8.3f us/step  angle err %.3e  pos err %.3e%s%s\n",
-                      s->name, methodName(g.method), setting, r.steps, 1e3 * r.wall_s,
-                      r.steps ? 1e6 * r.wall_s / r.steps : 0.0, e.angle, e.position, err.empty() ? "" : "  ERROR: ",
-                      err.c_str());
-          std::fflush(stdout);
-        }
-    }
+    const std::vector<Grid> gs = grids(o.quick);
+    for (const SceneSpec* s : chosen) runScene(*s, gs, o, runs, refs);
     std::fclose(runs);
     std::fclose(refs);
   } catch (const std::exception& e) {

@@ -38,6 +38,7 @@ extern "C" {
 #include <string>
 #include <vector>
 
+#include "../command_line.hpp"
 #include "compressed_matrix.hpp"
 #include "condense_problem.hpp"
 #include "read_fclib_problem.hpp"
@@ -188,18 +189,6 @@ double timeIt(Solve solve, double min_ms) {
   return best;
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  size_t a = 0;
-  while (a <= s.size()) {
-    const size_t b = s.find(',', a);
-    out.push_back(s.substr(a, b == std::string::npos ? std::string::npos : b - a));
-    if (b == std::string::npos) break;
-    a = b + 1;
-  }
-  return out;
-}
-
 void printRow(FILE* f, const Row& r, bool csv) {
   if (csv) {
     std::fprintf(f, "%s,%d,%s,%.0e,%ld,%.3e,%.3e,%.4g,%d\n", r.problem.c_str(), r.contacts,
@@ -301,9 +290,8 @@ int toNscd(const char* in, const char* out) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line (usage in the file's head).
+struct Options {
   std::vector<double> tols{1e-4, 1e-8, 1e-10};
   long max_iter = 10000;
   double min_ms = 20;
@@ -312,37 +300,35 @@ int main(int argc, char** argv) {
   std::string storage = "best";  // of W for the Siconos solvers: sparse, dense or the faster
   std::vector<std::string> siconos_names{"nsgs", "nsn_ac", "nsn_fb", "prox"};
   std::vector<const char*> files;
+};
+
+// False after the usage line (an unknown option).
+bool parseOptions(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return nscd_cli::optionValue(a, argc, argv, i); };
     if (a == "--tol") {
-      tols.clear();
-      for (const std::string& s : split(next())) tols.push_back(std::atof(s.c_str()));
-    } else if (a == "--max-iter") max_iter = std::atol(next().c_str());
-    else if (a == "--min-ms") min_ms = std::atof(next().c_str());
-    else if (a == "--csv") csv_path = next();
-    else if (a == "--measure") measure = next();
-    else if (a == "--siconos-storage") storage = next();
+      o.tols.clear();
+      for (const std::string& s : nscd_cli::splitCommas(next())) o.tols.push_back(std::atof(s.c_str()));
+    } else if (a == "--max-iter") o.max_iter = std::atol(next().c_str());
+    else if (a == "--min-ms") o.min_ms = std::atof(next().c_str());
+    else if (a == "--csv") o.csv_path = next();
+    else if (a == "--measure") o.measure = next();
+    else if (a == "--siconos-storage") o.storage = next();
     else if (a == "--siconos") {
       const std::string s = next();
-      siconos_names = s == "none" ? std::vector<std::string>{} : split(s);
+      o.siconos_names = s == "none" ? std::vector<std::string>{} : nscd_cli::splitCommas(s);
     } else if (a == "--convert") {
-      convert_in = next();
-      convert_out = next();
+      o.convert_in = next();
+      o.convert_out = next();
     } else if (a == "--from-nscd") {
-      from_in = next();
-      from_out = next();
+      o.from_in = next();
+      o.from_out = next();
     } else if (a == "--to-nscd") {
-      to_in = next();
-      to_out = next();
-    } else if (a == "--title") title = next();
-    else if (a == "--description") descr = next();
+      o.to_in = next();
+      o.to_out = next();
+    } else if (a == "--title") o.title = next();
+    else if (a == "--description") o.descr = next();
     else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr,
                    "usage: %s [--tol 1e-4,1e-8,1e-10] [--max-iter N] [--siconos nsgs,nsn_ac,...|none] "
@@ -352,35 +338,127 @@ int main(int argc, char** argv) {
                    "       %s --from-nscd IN.txt OUT.hdf5 [--title T] [--description D]\n"
                    "       %s --to-nscd IN.hdf5 OUT.txt\n",
                    argv[0], argv[0], argv[0], argv[0]);
-      return 2;
-    } else files.push_back(argv[i]);
+      return false;
+    } else o.files.push_back(argv[i]);
   }
-  if (!from_in.empty()) return fromNscd(from_in.c_str(), from_out.c_str(), title, descr);
-  if (!to_in.empty()) return toNscd(to_in.c_str(), to_out.c_str());
-  if (!convert_in.empty()) {
+  return true;
+}
+
+// Prints a row on standard output and, when there is one, in the CSV.
+void report(const Row& r, FILE* csv) {
+  printRow(stdout, r, false);
+  if (csv) printRow(csv, r, true);
+}
+
+// Our solver on the problem (W, b, blocks) at tolerance tol, cold-started, timed.
+// qn: |q|, for Siconos's measure.
+Row solveOurs(const LocalProblem& p, const Eigen::MatrixXd& W, const Eigen::VectorXd& b,
+              const std::vector<nscd::ProblemBlock>& blocks, double tol, double qn, const Options& o) {
+  nscd::FrictionContactSolver solver;
+  nscd::SolverOptions opt;
+  // Same absolute residual as Siconos's relative one: scale by |q| / max(1, |q|).
+  opt.tolerance = o.measure == "siconos" && qn > 0 ? tol * qn / std::max(1.0, qn) : tol;
+  opt.max_iterations = static_cast<int>(std::min<long>(o.max_iter, 1 << 30));
+  Eigen::VectorXd P(W.rows());
+  nscd::SolverReport rep;
+  Row r;
+  r.problem = p.name;
+  r.contacts = p.contacts;
+  r.solver = "nscd";
+  r.tol = tol;
+  r.ms = timeIt([&] {
+    P.setZero();
+    const auto t0 = Clock::now();
+    rep = solver.solve(W, b, blocks, opt, P);
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  }, o.min_ms);
+  r.iterations = rep.iteration_sum;
+  r.err_ours = nscd::solverError(W, b, P, blocks);
+  r.converged = rep.converged;
+  r.err_siconos = siconosMeasure(r.err_ours, qn);
+  r.converged = rep.converged && withinTolerance(r, o.measure, tol);
+  return r;
+}
+
 #ifdef NSCD_WITH_SICONOS
-    return convert(convert_in.c_str(), convert_out.c_str(), title, descr);
-#else
-    std::fprintf(stderr, "--convert needs a build with Siconos numerics\n");
-    return 2;
-#endif
-  }
-#ifndef NSCD_WITH_SICONOS
-  siconos_names.clear();
-#endif
-  FILE* csv = nullptr;
-  if (!csv_path.empty()) {
-    csv = std::fopen(csv_path.c_str(), "w");
-    if (!csv) {
-      std::fprintf(stderr, "cannot write %s\n", csv_path.c_str());
-      return 1;
+// Siconos's solver `sname` (id) on the problem at tolerance tol, with W stored sparse
+// or dense, cold-started, timed; its answer measured here.
+Row solveSiconos(const LocalProblem& p, const std::string& sname, int id, bool sparse, double tol, double qn,
+                 const Options& o) {
+  const int n = static_cast<int>(p.W.rows());
+  Eigen::VectorXd reac(n), velo(n);
+  int info = -1;
+  long iters = 0;
+  Row s;
+  s.problem = p.name;
+  s.contacts = p.contacts;
+  s.solver = sname + (sparse ? "/sp" : "/de");
+  s.tol = tol;
+  s.ms = timeIt([&] {
+    SolverOptions* so = solver_options_create(id);
+    so->dparam[SICONOS_DPARAM_TOL] = tol;
+    so->iparam[SICONOS_IPARAM_MAX_ITER] = static_cast<int>(o.max_iter);
+    reac.setZero();
+    velo.setZero();
+    FrictionContactProblem* fs = makeSiconosProblem(p, sparse);
+    const auto t0 = Clock::now();
+    info = fc3d_driver(fs, reac.data(), velo.data(), so);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    iters = so->iparam[SICONOS_IPARAM_ITER_DONE];
+    solver_options_delete(so);
+    frictionContactProblem_free(fs);
+    return ms;
+  }, o.min_ms);
+  s.iterations = iters;
+  s.err_ours = ourError(p, reac);
+  s.err_siconos = siconosMeasure(s.err_ours, qn);
+  // Converged: Siconos says so (info 0) and the answer's error, measured on
+  // the untouched problem, is within the tolerance. PROX can report info 0
+  // on an answer far from it (3.9e-4 against 1e-8 on a stress problem).
+  s.converged = info == 0 && withinTolerance(s, o.measure, tol);
+  if (info == 0 && !s.converged)
+    std::fprintf(stderr, "%s %s: Siconos reports converged at %g; measured error %.3e (%s)\n",
+                 p.name.c_str(), s.solver.c_str(), tol,
+                 o.measure == "siconos" ? s.err_siconos : s.err_ours, o.measure.c_str());
+  return s;
+}
+
+// Each chosen Siconos solver at tolerance tol, one row each: of the storages of W
+// tried ("best": both), the converged, then faster, run.
+void runSiconosSolvers(const LocalProblem& p, double tol, double qn, const Options& o, FILE* csv) {
+  // Siconos's solvers get a fresh copy of the problem per call: PROX shifts its
+  // diagonal and q in place and takes the shift off afterwards.
+  std::vector<bool> storages;  // sparse?
+  if (o.storage != "dense") storages.push_back(true);
+  if (o.storage != "sparse") storages.push_back(false);
+  for (const std::string& sname : o.siconos_names) {
+    int id = -1;
+    for (const SiconosSolver& s : kSiconosSolvers)
+      if (sname == s.name) id = s.id;
+    if (id < 0) {
+      std::fprintf(stderr, "unknown Siconos solver %s\n", sname.c_str());
+      continue;
     }
-    std::fprintf(csv, "problem,contacts,solver,tol,iterations,error_nscd,error_siconos,time_ms,converged\n");
+    Row best;
+    bool have = false;
+    for (const bool sparse : storages) {
+      const Row s = solveSiconos(p, sname, id, sparse, tol, qn, o);
+      if (!have || (s.converged && !best.converged) ||
+          (s.converged == best.converged && s.ms < best.ms)) {
+        best = s;
+        have = true;
+      }
+    }
+    report(best, csv);
   }
-  std::printf("%-32s %4s %-10s %7s %7s %10s %10s %10s %s\n", "problem", "nc", "solver", "tol", "iter",
-              "err(nscd)", "err(sicon)", "time ms", "conv");
+}
+#endif
+
+// Every problem file at every tolerance: ours, then Siconos's solvers (3D problems).
+// The count of problems unread or unsolved by ours.
+int solveFiles(const Options& o, FILE* csv) {
   int failures = 0;
-  for (const char* path : files) {
+  for (const char* path : o.files) {
     LocalProblem p;
     if (!readProblem(path, p)) {
       ++failures;
@@ -390,104 +468,49 @@ int main(int argc, char** argv) {
     Eigen::VectorXd b;
     std::vector<nscd::ProblemBlock> blocks;
     toOurs(p, W, b, blocks);
-#ifdef NSCD_WITH_SICONOS
-    // Siconos's solvers get a fresh copy of the problem per call: PROX shifts its
-    // diagonal and q in place and takes the shift off afterwards.
-    std::vector<bool> storages;  // sparse?
-    if (storage != "dense") storages.push_back(true);
-    if (storage != "sparse") storages.push_back(false);
-#endif
-    for (double tol : tols) {
-      // ours
-      nscd::FrictionContactSolver solver;
-      nscd::SolverOptions opt;
-      // Same absolute residual as Siconos's relative one: scale by |q| / max(1, |q|).
-      const double qn = b.norm();
-      opt.tolerance = measure == "siconos" && qn > 0 ? tol * qn / std::max(1.0, qn) : tol;
-      opt.max_iterations = static_cast<int>(std::min<long>(max_iter, 1 << 30));
-      Eigen::VectorXd P(W.rows());
-      nscd::SolverReport rep;
-      Row r;
-      r.problem = p.name;
-      r.contacts = p.contacts;
-      r.solver = "nscd";
-      r.tol = tol;
-      r.ms = timeIt([&] {
-        P.setZero();
-        const auto t0 = Clock::now();
-        rep = solver.solve(W, b, blocks, opt, P);
-        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      }, min_ms);
-      r.iterations = rep.iteration_sum;
-      r.err_ours = nscd::solverError(W, b, P, blocks);
-      r.converged = rep.converged;
-      r.err_siconos = siconosMeasure(r.err_ours, qn);
-      r.converged = rep.converged && withinTolerance(r, measure, tol);
-      printRow(stdout, r, false);
-      if (csv) printRow(csv, r, true);
+    const double qn = b.norm();
+    for (double tol : o.tols) {
+      const Row r = solveOurs(p, W, b, blocks, tol, qn, o);
+      report(r, csv);
       if (!r.converged) ++failures;
 #ifdef NSCD_WITH_SICONOS
-      if (p.dim != 3) continue;
-      for (const std::string& sname : siconos_names) {
-        int id = -1;
-        for (const SiconosSolver& s : kSiconosSolvers)
-          if (sname == s.name) id = s.id;
-        if (id < 0) {
-          std::fprintf(stderr, "unknown Siconos solver %s\n", sname.c_str());
-          continue;
-        }
-        // Each storage of W in turn ("best": keep the converged, then faster, run).
-        Row best;
-        bool have = false;
-        for (const bool sparse : storages) {
-          const int n = static_cast<int>(p.W.rows());
-          Eigen::VectorXd reac(n), velo(n);
-          int info = -1;
-          long iters = 0;
-          Row s;
-          s.problem = p.name;
-          s.contacts = p.contacts;
-          s.solver = sname + (sparse ? "/sp" : "/de");
-          s.tol = tol;
-          s.ms = timeIt([&] {
-            SolverOptions* so = solver_options_create(id);
-            so->dparam[SICONOS_DPARAM_TOL] = tol;
-            so->iparam[SICONOS_IPARAM_MAX_ITER] = static_cast<int>(max_iter);
-            reac.setZero();
-            velo.setZero();
-            FrictionContactProblem* fs = makeSiconosProblem(p, sparse);
-            const auto t0 = Clock::now();
-            info = fc3d_driver(fs, reac.data(), velo.data(), so);
-            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-            iters = so->iparam[SICONOS_IPARAM_ITER_DONE];
-            solver_options_delete(so);
-            frictionContactProblem_free(fs);
-            return ms;
-          }, min_ms);
-          s.iterations = iters;
-          s.err_ours = ourError(p, reac);
-          s.err_siconos = siconosMeasure(s.err_ours, qn);
-          // Converged: Siconos says so (info 0) and the answer's error, measured on
-          // the untouched problem, is within the tolerance. PROX can report info 0
-          // on an answer far from it (3.9e-4 against 1e-8 on a stress problem).
-          s.converged = info == 0 && withinTolerance(s, measure, tol);
-          if (info == 0 && !s.converged)
-            std::fprintf(stderr, "%s %s: Siconos reports converged at %g; measured error %.3e (%s)\n",
-                         p.name.c_str(), s.solver.c_str(), tol,
-                         measure == "siconos" ? s.err_siconos : s.err_ours, measure.c_str());
-          if (!have || (s.converged && !best.converged) ||
-              (s.converged == best.converged && s.ms < best.ms)) {
-            best = s;
-            have = true;
-          }
-        }
-        const Row& s = best;
-        printRow(stdout, s, false);
-        if (csv) printRow(csv, s, true);
-      }
+      if (p.dim == 3) runSiconosSolvers(p, tol, qn, o, csv);
 #endif
     }
   }
+  return failures;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parseOptions(argc, argv, o)) return 2;
+  if (!o.from_in.empty()) return fromNscd(o.from_in.c_str(), o.from_out.c_str(), o.title, o.descr);
+  if (!o.to_in.empty()) return toNscd(o.to_in.c_str(), o.to_out.c_str());
+  if (!o.convert_in.empty()) {
+#ifdef NSCD_WITH_SICONOS
+    return convert(o.convert_in.c_str(), o.convert_out.c_str(), o.title, o.descr);
+#else
+    std::fprintf(stderr, "--convert needs a build with Siconos numerics\n");
+    return 2;
+#endif
+  }
+#ifndef NSCD_WITH_SICONOS
+  o.siconos_names.clear();
+#endif
+  FILE* csv = nullptr;
+  if (!o.csv_path.empty()) {
+    csv = std::fopen(o.csv_path.c_str(), "w");
+    if (!csv) {
+      std::fprintf(stderr, "cannot write %s\n", o.csv_path.c_str());
+      return 1;
+    }
+    std::fprintf(csv, "problem,contacts,solver,tol,iterations,error_nscd,error_siconos,time_ms,converged\n");
+  }
+  std::printf("%-32s %4s %-10s %7s %7s %10s %10s %10s %s\n", "problem", "nc", "solver", "tol", "iter",
+              "err(nscd)", "err(sicon)", "time ms", "conv");
+  const int failures = solveFiles(o, csv);
   if (csv) std::fclose(csv);
   return failures == 0 ? 0 : 3;
 }

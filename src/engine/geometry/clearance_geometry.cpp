@@ -276,13 +276,73 @@ ContactPoint ringJournalContact(const Vec3& c, const Vec3& n, const Vec3& e1, do
   return cp;
 }
 
+namespace {
+
+// A clearance joint's frames at the current poses, in world coordinates.
+struct ClearanceFrames {
+  Vec3 nb, cb, e1, e2;  // bearing: axis, centre, reference direction, nb x e1
+  Vec3 aj, oj;          // journal: axis, centre
+};
+
+// Axial: the bumps on the journal's end face `side` (0: at -L/2, 1: at +L/2)
+// against the facing flange plane; the new count of points in out.
+int addBumpContacts(const ClearanceJoint& cj, const ClearanceFrames& f, int side, int bumps,
+                    double margin, int n, ContactPoint* out) {
+  const Vec3 &nb = f.nb, &e1 = f.e1, &e2 = f.e2, &aj = f.aj;
+  const double half = 0.5 * cj.length;
+  const double rho = cj.bump_radius;
+  const double s = side == 0 ? -1.0 : 1.0;
+  const Vec3 flange = f.oj + (s * (half + 0.5 * cj.axial)) * aj;
+  const Vec3 m = -s * aj;  // flange normal, towards the bearing
+  // Centre of the section circles' plane offset: bump_radius inside the face.
+  const Vec3 faceIn = f.cb + (s * (half - rho)) * nb;
+  const double mn = m.dot(nb);
+  // No bump of this side within the margin (the usual case: the journal's
+  // axial play is far larger): skip them. Each bump's gap is at least this,
+  // as |m.ui| <= |(m.e1, m.e2)| and its section point is within rho of centre.
+  const double me1 = m.dot(e1), me2 = m.dot(e2);
+  const double tilt = std::sqrt(me1 * me1 + me2 * me2);
+  const double at = std::abs(cj.bump_at), r = std::abs(rho);
+  const double lower = m.dot(faceIn - flange) - at * tilt - r * (std::abs(mn) + tilt);
+  if (lower - margin > 1e-12 + 1e-9 * (at + r)) return n;
+  for (int i = 0; i < bumps; ++i) {
+    const Vec3 ui = kBumpDirs.c[bumps][i] * e1 + kBumpDirs.s[bumps][i] * e2;
+    const Vec3 centre = faceIn + cj.bump_at * ui;
+    // Point of the section circle (plane nb, ui) lowest along m, kept on the
+    // outer half (s nb side); an end of the half circle otherwise.
+    const double mu = m.dot(ui);
+    double x = -mn, y = -mu;  // direction -m projected, in (nb, ui)
+    const double len = std::sqrt(x * x + y * y);
+    if (len > 0 && s * x >= 0) {
+      x /= len;
+      y /= len;
+    } else {
+      x = 0;
+      y = mu > 0 ? -1.0 : 1.0;
+    }
+    const Vec3 pa = centre + rho * (x * nb + y * ui);
+    const double gap = m.dot(pa - flange);
+    if (!(gap < margin)) continue;
+    ContactPoint& cp = out[n++];
+    cp.point_a = pa;
+    cp.point_b = pa - gap * m;
+    cp.normal = m;
+    cp.gap = gap;
+    cp.feature = 2 + side * bumps + i;
+  }
+  return n;
+}
+
+}  // namespace
+
 int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose& journal,
                       double margin, bool planar, double* phi_hint, ContactPoint* out) {
-  const Vec3 nb = bearing.rotate(cj.bearing_axis);
-  const Vec3 cb = bearing.apply(cj.bearing_center);
-  const Vec3 e1 = bearing.rotate(cj.bearing_ref);
-  const Vec3 aj = journal.rotate(cj.journal_axis);
-  const Vec3 oj = journal.apply(cj.journal_center);
+  ClearanceFrames f;
+  f.nb = bearing.rotate(cj.bearing_axis);
+  f.cb = bearing.apply(cj.bearing_center);
+  f.e1 = bearing.rotate(cj.bearing_ref);
+  f.aj = journal.rotate(cj.journal_axis);
+  f.oj = journal.apply(cj.journal_center);
   const double R = cj.radius + cj.radial;
   const double half = 0.5 * cj.length;
   int n = 0;
@@ -292,7 +352,7 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
   for (int k = 0; k < rings; ++k) {
     const double at = planar ? 0.0 : (k == 0 ? -half : half);
     ContactPoint cp =
-        ringJournalContact(cb + at * nb, nb, e1, R, oj, aj, cj.radius, phi_hint[k], !planar);
+        ringJournalContact(f.cb + at * f.nb, f.nb, f.e1, R, f.oj, f.aj, cj.radius, phi_hint[k], !planar);
     cp.feature = k;
     if (cp.gap < margin) out[n++] = cp;
   }
@@ -300,49 +360,8 @@ int clearanceContacts(const ClearanceJoint& cj, const Pose& bearing, const Pose&
 
   // Axial: bumps on each end face against the facing flange plane.
   const int bumps = cj.bumps < 0 ? 0 : (cj.bumps > kMaxBumps ? kMaxBumps : cj.bumps);
-  const Vec3 e2 = nb.cross(e1);
-  const double rho = cj.bump_radius;
-  for (int side = 0; side < 2; ++side) {
-    const double s = side == 0 ? -1.0 : 1.0;
-    const Vec3 flange = oj + (s * (half + 0.5 * cj.axial)) * aj;
-    const Vec3 m = -s * aj;  // flange normal, towards the bearing
-    // Centre of the section circles' plane offset: bump_radius inside the face.
-    const Vec3 faceIn = cb + (s * (half - rho)) * nb;
-    const double mn = m.dot(nb);
-    // No bump of this side within the margin (the usual case: the journal's
-    // axial play is far larger): skip them. Each bump's gap is at least this,
-    // as |m.ui| <= |(m.e1, m.e2)| and its section point is within rho of centre.
-    const double me1 = m.dot(e1), me2 = m.dot(e2);
-    const double tilt = std::sqrt(me1 * me1 + me2 * me2);
-    const double at = std::abs(cj.bump_at), r = std::abs(rho);
-    const double lower = m.dot(faceIn - flange) - at * tilt - r * (std::abs(mn) + tilt);
-    if (lower - margin > 1e-12 + 1e-9 * (at + r)) continue;
-    for (int i = 0; i < bumps; ++i) {
-      const Vec3 ui = kBumpDirs.c[bumps][i] * e1 + kBumpDirs.s[bumps][i] * e2;
-      const Vec3 centre = faceIn + cj.bump_at * ui;
-      // Point of the section circle (plane nb, ui) lowest along m, kept on the
-      // outer half (s nb side); an end of the half circle otherwise.
-      const double mu = m.dot(ui);
-      double x = -mn, y = -mu;  // direction -m projected, in (nb, ui)
-      const double len = std::sqrt(x * x + y * y);
-      if (len > 0 && s * x >= 0) {
-        x /= len;
-        y /= len;
-      } else {
-        x = 0;
-        y = mu > 0 ? -1.0 : 1.0;
-      }
-      const Vec3 pa = centre + rho * (x * nb + y * ui);
-      const double gap = m.dot(pa - flange);
-      if (!(gap < margin)) continue;
-      ContactPoint& cp = out[n++];
-      cp.point_a = pa;
-      cp.point_b = pa - gap * m;
-      cp.normal = m;
-      cp.gap = gap;
-      cp.feature = 2 + side * bumps + i;
-    }
-  }
+  f.e2 = f.nb.cross(f.e1);
+  for (int side = 0; side < 2; ++side) n = addBumpContacts(cj, f, side, bumps, margin, n, out);
   return n;
 }
 

@@ -106,44 +106,37 @@ int certainMonotone(const RingAcrossAxis& g, double lo, double hi, double dlo, d
   return 0;
 }
 
-// The minimiser of f on [lo, hi]. When f' < 0 at lo and > 0 at hi, the minimum
-// inside is found by Newton on f' kept in the shrinking bracket (bisection when a
-// step would leave it) down to ~1e-9 rad, then polished: about 5 evaluations of
-// cos and sin where the golden section below takes 45, with the same answer to
-// round-off. Otherwise (f flat to round-off, or a minimum at an end): golden
-// section down to ~1e-9 rad, the ends if lower, then the polish; skipped, with
-// the same answer, when f is certainly monotone (certainMonotone).
-Angle minimiseOn(const RingAcrossAxis& g, double lo, double hi) {
-  const Angle xlo = angleAt(lo), xhi = angleAt(hi);
-  double dlo = 0, dhi = 0, d2 = 0;
-  g.derivatives(xlo, dlo, d2);
-  g.derivatives(xhi, dhi, d2);
-  if (dlo < 0 && dhi > 0) {
-    double a = lo, b = hi;
-    Angle x = angleAt(0.5 * (lo + hi));
-    bool evaluated = true;  // x.c, x.s are of x.t (a step sets x.t alone)
-    for (int it = 0; it < 100; ++it) {
-      if (!evaluated) x = angleAt(x.t);
-      evaluated = true;
-      double d1 = 0;
-      g.derivatives(x, d1, d2);
-      if (d1 < 0) a = x.t;
-      else if (d1 > 0) b = x.t;
-      else break;
-      const double tn = x.t - d1 / d2;
-      const bool newton = d2 > 0 && tn > a && tn < b;
-      const double next = newton ? tn : 0.5 * (a + b);
-      const double step = next - x.t;
-      x.t = next;
-      evaluated = false;
-      if ((newton && std::abs(step) < 1e-9) || b - a < 1e-9) break;
-    }
+// The minimum inside [lo, hi] when f' < 0 at lo and > 0 at hi: Newton on f' kept
+// in the shrinking bracket (bisection when a step would leave it) down to ~1e-9
+// rad, then polished; an end if it is lower (f flat to round-off).
+Angle bracketedMinimum(const RingAcrossAxis& g, double lo, double hi, const Angle& xlo, const Angle& xhi) {
+  double a = lo, b = hi;
+  Angle x = angleAt(0.5 * (lo + hi));
+  bool evaluated = true;  // x.c, x.s are of x.t (a step sets x.t alone)
+  for (int it = 0; it < 100; ++it) {
     if (!evaluated) x = angleAt(x.t);
-    const double ft = g.f(x), flo = g.f(xlo), fhi = g.f(xhi);
-    if (flo <= ft || fhi < ft) return flo <= ft && !(fhi < flo) ? xlo : xhi;
-    return polish(g, x, lo, hi);
+    evaluated = true;
+    double d1 = 0, d2 = 0;
+    g.derivatives(x, d1, d2);
+    if (d1 < 0) a = x.t;
+    else if (d1 > 0) b = x.t;
+    else break;
+    const double tn = x.t - d1 / d2;
+    const bool newton = d2 > 0 && tn > a && tn < b;
+    const double next = newton ? tn : 0.5 * (a + b);
+    const double step = next - x.t;
+    x.t = next;
+    evaluated = false;
+    if ((newton && std::abs(step) < 1e-9) || b - a < 1e-9) break;
   }
-  if (const int mono = certainMonotone(g, lo, hi, dlo, dhi)) return mono > 0 ? xlo : xhi;
+  if (!evaluated) x = angleAt(x.t);
+  const double ft = g.f(x), flo = g.f(xlo), fhi = g.f(xhi);
+  if (flo <= ft || fhi < ft) return flo <= ft && !(fhi < flo) ? xlo : xhi;
+  return polish(g, x, lo, hi);
+}
+
+// Golden section on [lo, hi] down to ~1e-9 rad, the ends if lower, then the polish.
+Angle goldenMinimum(const RingAcrossAxis& g, double lo, double hi, const Angle& xlo, const Angle& xhi) {
   const double kG = 0.6180339887498949;
   double a = lo, b = hi;
   Angle x1 = angleAt(b - kG * (b - a)), x2 = angleAt(a + kG * (b - a));
@@ -178,139 +171,200 @@ Angle minimiseOn(const RingAcrossAxis& g, double lo, double hi) {
   return polish(g, x, lo, hi);
 }
 
-}  // namespace
+// The minimiser of f on [lo, hi]. When f' < 0 at lo and > 0 at hi, the minimum
+// inside is found by Newton (bracketedMinimum): about 5 evaluations of cos and
+// sin where the golden section takes 45, with the same answer to round-off.
+// Otherwise (f flat to round-off, or a minimum at an end): golden section;
+// skipped, with the same answer, when f is certainly monotone (certainMonotone).
+Angle minimiseOn(const RingAcrossAxis& g, double lo, double hi) {
+  const Angle xlo = angleAt(lo), xhi = angleAt(hi);
+  double dlo = 0, dhi = 0, d2 = 0;
+  g.derivatives(xlo, dlo, d2);
+  g.derivatives(xhi, dhi, d2);
+  if (dlo < 0 && dhi > 0) return bracketedMinimum(g, lo, hi, xlo, xhi);
+  if (const int mono = certainMonotone(g, lo, hi, dlo, dhi)) return mono > 0 ? xlo : xhi;
+  return goldenMinimum(g, lo, hi, xlo, xhi);
+}
 
-int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
-                 ContactPoint* out) {
-  const Vec3 u = axisZ(pb), o = pb.p;
-  const Vec3 e1 = pa.rotate(Vec3::UnitX()), e2 = pa.rotate(Vec3::UnitY());
-  const double r = a.radius, R = b.radius;
-  auto perp = [&u](const Vec3& v) { return Vec3(v - u.dot(v) * u); };
-  const double sign = b.hollow ? -1.0 : 1.0;
-  const RingAcrossAxis g{perp(pa.p - o), r * perp(e1), r * perp(e2), sign};
+// The ring seen across the cylinder's axis (w(t), f = sign |w|^2) and the frames
+// the candidates are placed with.
+struct RingCylinderFrame {
+  Vec3 u, o;    // the cylinder's axis and a point on it
+  Vec3 e1, e2;  // the ring's plane
+  double r, R;  // ring and cylinder radii
+  double sign;  // +1 solid cylinder, -1 hollow
+  RingAcrossAxis g;
+};
 
-  {
-    // A pair that far apart emits nothing, certainly: skip the sampling. Seen
-    // across the axis, the whole ring lies within sigma of w0 (sigma: the larger
-    // singular value of [w1 w2], so exact for a ring coaxial with the cylinder),
-    // and along the axis within r |(u.e1, u.e2)| of the centre's coordinate.
-    // The slack is the early-out's below, far above the round-off.
-    const double q1 = g.w1.squaredNorm(), q2 = g.w2.squaredNorm(), q12 = g.w1.dot(g.w2);
-    const double sigma =
-        std::sqrt(0.5 * (q1 + q2) + std::sqrt(0.25 * (q1 - q2) * (q1 - q2) + q12 * q12));
-    const double across = g.w0.norm();
-    const double lower = sign > 0 ? across - sigma - R : R - across - sigma;
-    const double slack = 1e-12 + 1e-9 * (R + r);
-    if (lower - margin > slack) return 0;
-    const double ue1 = u.dot(e1), ue2 = u.dot(e2);
-    const double along = std::abs(u.dot(pa.p - o)) - r * std::sqrt(ue1 * ue1 + ue2 * ue2);
-    if (along - 0.5 * b.length > slack + 1e-9 * b.length) return 0;
-  }
+// A pair that far apart emits nothing, certainly: skip the sampling. Seen across
+// the axis, the whole ring lies within sigma of w0 (sigma: the larger singular
+// value of [w1 w2], so exact for a ring coaxial with the cylinder), and along
+// the axis within r |(u.e1, u.e2)| of the centre's coordinate. The slack is the
+// early-out's in sampleRing, far above the round-off.
+bool certainlyApart(const RingCylinderFrame& fr, const Pose& pa, const Shape& b, double margin) {
+  const RingAcrossAxis& g = fr.g;
+  const double q1 = g.w1.squaredNorm(), q2 = g.w2.squaredNorm(), q12 = g.w1.dot(g.w2);
+  const double sigma =
+      std::sqrt(0.5 * (q1 + q2) + std::sqrt(0.25 * (q1 - q2) * (q1 - q2) + q12 * q12));
+  const double across = g.w0.norm();
+  const double lower = fr.sign > 0 ? across - sigma - fr.R : fr.R - across - sigma;
+  const double slack = 1e-12 + 1e-9 * (fr.R + fr.r);
+  if (lower - margin > slack) return true;
+  const double ue1 = fr.u.dot(fr.e1), ue2 = fr.u.dot(fr.e2);
+  const double along = std::abs(fr.u.dot(pa.p - fr.o)) - fr.r * std::sqrt(ue1 * ue1 + ue2 * ue2);
+  return along - 0.5 * b.length > slack + 1e-9 * b.length;
+}
 
-  const bool full = fullCircle(a.span);
-  const double span = full ? kTwoPi : a.span;
+// f sampled at the cells' ends over the ring's arc, and the lowest sample.
+struct RingSamples {
+  bool full;    // the ring is a full circle (samples wrap around)
+  double span;  // rad
+  double step;  // rad, between samples
+  int count;
+  int best;
+  double f[kCellsPerTurn + 1];
+};
+
+// Samples f; false when no gap on the ring can be below the margin (nothing to refine).
+bool sampleRing(const Shape& a, const RingCylinderFrame& fr, double margin, RingSamples& sm) {
+  const RingAcrossAxis& g = fr.g;
+  sm.full = fullCircle(a.span);
+  sm.span = sm.full ? kTwoPi : a.span;
   const int cells =
-      full ? kCellsPerTurn
-           : std::max(8, static_cast<int>(std::ceil(kCellsPerTurn * span / kTwoPi)));
-  const int samples = full ? cells : cells + 1;
-  const double step = span / cells;
-  double fv[kCellsPerTurn + 1];
+      sm.full ? kCellsPerTurn
+              : std::max(8, static_cast<int>(std::ceil(kCellsPerTurn * sm.span / kTwoPi)));
+  sm.count = sm.full ? cells : cells + 1;
+  sm.step = sm.span / cells;
   {
     // Sample by rotating (cos, sin) with a fixed step: no sin/cos per sample.
-    const double cs = std::cos(step), sn = std::sin(step);
+    const double cs = std::cos(sm.step), sn = std::sin(sm.step);
     double ct = std::cos(a.start), st = std::sin(a.start);
-    for (int i = 0; i < samples; ++i) {
-      fv[i] = sign * (g.w0 + ct * g.w1 + st * g.w2).squaredNorm();
+    for (int i = 0; i < sm.count; ++i) {
+      sm.f[i] = fr.sign * (g.w0 + ct * g.w1 + st * g.w2).squaredNorm();
       const double c2 = ct * cs - st * sn;
       st = st * cs + ct * sn;
       ct = c2;
     }
   }
-  int best = 0;
-  for (int i = 1; i < samples; ++i)
-    if (fv[i] < fv[best]) best = i;
-  {
-    // Every point refined below lies within one cell of a sample, and moving
-    // along the ring by dt moves w(t) by at most r dt: no gap on the ring is
-    // below the best sample's minus r * step. A pair that far apart emits
-    // nothing (emit() keeps gap < margin only), so the refinements are skipped.
-    const double reach = std::sqrt(sign * fv[best]);
-    const double lower = sign > 0 ? reach - R - r * step : R - reach - r * step;
-    if (lower - margin > 1e-12 + 1e-9 * (R + r)) return 0;
-  }
+  sm.best = 0;
+  for (int i = 1; i < sm.count; ++i)
+    if (sm.f[i] < sm.f[sm.best]) sm.best = i;
+  // Every point refined below lies within one cell of a sample, and moving
+  // along the ring by dt moves w(t) by at most r dt: no gap on the ring is
+  // below the best sample's minus r * step. A pair that far apart emits
+  // nothing (emit() keeps gap < margin only), so the refinements are skipped.
+  const double reach = std::sqrt(fr.sign * sm.f[sm.best]);
+  const double lower = fr.sign > 0 ? reach - fr.R - fr.r * sm.step : fr.R - reach - fr.r * sm.step;
+  return !(lower - margin > 1e-12 + 1e-9 * (fr.R + fr.r));
+}
 
-  Angle cand_x[kMaxCandidates];
-  int cand_feature[kMaxCandidates];
-  int nc = 0, interior = 0;
-  for (int i = 0; i < samples && nc < kMaxCandidates; ++i) {
+struct RingCandidates {
+  Angle x[kMaxCandidates];
+  int feature[kMaxCandidates];
+  int count = 0;
+};
+
+// Every discrete local minimum of the samples (and the best one), refined in its
+// two cells; an end of the arc if the minimum lies past it; minima within 1e-9
+// rad of one already found dropped. Features numbered as in the file's head.
+void refineMinima(const Shape& a, const RingAcrossAxis& g, const RingSamples& sm, RingCandidates& cand) {
+  const bool full = sm.full;
+  const int samples = sm.count;
+  const double* fv = sm.f;
+  int interior = 0;
+  cand.count = 0;
+  for (int i = 0; i < samples && cand.count < kMaxCandidates; ++i) {
     bool local_min;
     if (full) local_min = fv[i] < fv[(i + samples - 1) % samples] && fv[i] <= fv[(i + 1) % samples];
     else if (i == 0) local_min = fv[0] <= fv[1];
     else if (i == samples - 1) local_min = fv[i] < fv[i - 1];
     else local_min = fv[i] < fv[i - 1] && fv[i] <= fv[i + 1];
-    if (!local_min && i != best) continue;
-    const double lo = (full || i > 0) ? a.start + (i - 1) * step : a.start;
-    const double hi = (full || i < samples - 1) ? a.start + (i + 1) * step : a.start + span;
+    if (!local_min && i != sm.best) continue;
+    const double lo = (full || i > 0) ? a.start + (i - 1) * sm.step : a.start;
+    const double hi = (full || i < samples - 1) ? a.start + (i + 1) * sm.step : a.start + sm.span;
     Angle x = minimiseOn(g, lo, hi);
     const double t = x.t;
     int feature;
     if (!full && t <= a.start) {
       x = angleAt(a.start);
       feature = 1;
-    } else if (!full && t >= a.start + span) {
-      x = angleAt(a.start + span);
+    } else if (!full && t >= a.start + sm.span) {
+      x = angleAt(a.start + sm.span);
       feature = 2;
     } else {
       feature = -1;  // numbered below, once known to be new
     }
     bool seen = false;
-    for (int k = 0; k < nc; ++k) {
-      double d = std::fmod(std::abs(x.t - cand_x[k].t), kTwoPi);
+    for (int k = 0; k < cand.count; ++k) {
+      double d = std::fmod(std::abs(x.t - cand.x[k].t), kTwoPi);
       d = std::min(d, kTwoPi - d);
       seen = seen || d < 1e-9;
     }
     if (seen) continue;
     if (feature < 0) feature = interior == 0 ? 0 : 2 + interior;
     if (feature == 0 || feature > 2) ++interior;
-    cand_x[nc] = x;
-    cand_feature[nc] = feature;
-    ++nc;
+    cand.x[cand.count] = x;
+    cand.feature[cand.count] = feature;
+    ++cand.count;
   }
+}
 
-  int n = 0;
+// The contact point of the ring point at x, if it lies on the cylinder's patch
+// and is no deeper than the patch's nearest side; the new count of points.
+int emitOnPatch(const RingCylinderFrame& fr, const Pose& pa, const Shape& b, const Pose& pb, const Angle& x,
+                int feature, double margin, int n, ContactPoint* out) {
+  const Vec3& u = fr.u;
   const double half = 0.5 * b.length;
-  for (int k = 0; k < nc; ++k) {
-    const Angle& x = cand_x[k];
-    const Vec3 p = pa.p + r * (x.c * e1 + x.s * e2);
-    const Vec3 rel = p - o;
-    const double along = u.dot(rel);
-    if (!(std::abs(along) <= half)) continue;
-    double inside = half - std::abs(along);  // distance to the patch's nearest side
-    const Vec3 radial = rel - along * u;
-    const double d = radial.norm();
-    // On the axis (to round-off) the direction is noise: any normal to it.
-    const double tiny = 1e-14 * (rel.norm() + R + r);
-    const Vec3 dir = d > tiny ? Vec3(radial / d) : anyOrthogonal(u);
-    if (!fullCircle(b.span)) {
-      const Vec3 dl = pb.q.conjugate() * dir;
-      const double angle = std::atan2(dl.y(), dl.x());
-      if (!angleInSpan(angle, b.start, b.span)) continue;
-      // Angle to the nearer end of the span; the point's distance to the
-      // half-plane through the axis at that end.
-      double rel_angle = std::fmod(angle - b.start, kTwoPi);
-      if (rel_angle < 0) rel_angle += kTwoPi;
-      if (rel_angle > b.span) rel_angle = 0;  // on the start, by round-off
-      const double to_end = std::min(rel_angle, b.span - rel_angle);
-      inside = std::min(inside, to_end < kTwoPi / 4 ? d * std::sin(to_end) : d);
-    }
-    // B's outward normal: away from the axis, towards it for a hollow cylinder.
-    const Vec3 normal = sign * dir;
-    const double gap = sign * (d - R);
-    // Deeper than the patch's nearest side is far: the point came in from the
-    // side (behind the patch), where other features of B lie.
-    if (-gap > inside) continue;
-    n = emit(out, n, p, o + along * u + R * dir, normal, gap, cand_feature[k], margin);
+  const Vec3 p = pa.p + fr.r * (x.c * fr.e1 + x.s * fr.e2);
+  const Vec3 rel = p - fr.o;
+  const double along = u.dot(rel);
+  if (!(std::abs(along) <= half)) return n;
+  double inside = half - std::abs(along);  // distance to the patch's nearest side
+  const Vec3 radial = rel - along * u;
+  const double d = radial.norm();
+  // On the axis (to round-off) the direction is noise: any normal to it.
+  const double tiny = 1e-14 * (rel.norm() + fr.R + fr.r);
+  const Vec3 dir = d > tiny ? Vec3(radial / d) : anyOrthogonal(u);
+  if (!fullCircle(b.span)) {
+    const Vec3 dl = pb.q.conjugate() * dir;
+    const double angle = std::atan2(dl.y(), dl.x());
+    if (!angleInSpan(angle, b.start, b.span)) return n;
+    // Angle to the nearer end of the span; the point's distance to the
+    // half-plane through the axis at that end.
+    double rel_angle = std::fmod(angle - b.start, kTwoPi);
+    if (rel_angle < 0) rel_angle += kTwoPi;
+    if (rel_angle > b.span) rel_angle = 0;  // on the start, by round-off
+    const double to_end = std::min(rel_angle, b.span - rel_angle);
+    inside = std::min(inside, to_end < kTwoPi / 4 ? d * std::sin(to_end) : d);
   }
+  // B's outward normal: away from the axis, towards it for a hollow cylinder.
+  const Vec3 normal = fr.sign * dir;
+  const double gap = fr.sign * (d - fr.R);
+  // Deeper than the patch's nearest side is far: the point came in from the
+  // side (behind the patch), where other features of B lie.
+  if (-gap > inside) return n;
+  return emit(out, n, p, fr.o + along * u + fr.R * dir, normal, gap, feature, margin);
+}
+
+}  // namespace
+
+int ringCylinder(const Shape& a, const Pose& pa, const Shape& b, const Pose& pb, double margin,
+                 ContactPoint* out) {
+  const Vec3 u = axisZ(pb), o = pb.p;
+  const Vec3 e1 = pa.rotate(Vec3::UnitX()), e2 = pa.rotate(Vec3::UnitY());
+  const double r = a.radius;
+  auto perp = [&u](const Vec3& v) { return Vec3(v - u.dot(v) * u); };
+  const double sign = b.hollow ? -1.0 : 1.0;
+  const RingCylinderFrame fr{u, o, e1, e2, r, b.radius, sign,
+                             RingAcrossAxis{perp(pa.p - o), r * perp(e1), r * perp(e2), sign}};
+  if (certainlyApart(fr, pa, b, margin)) return 0;
+  RingSamples samples;
+  if (!sampleRing(a, fr, margin, samples)) return 0;
+  RingCandidates cand;
+  refineMinima(a, fr.g, samples, cand);
+  int n = 0;
+  for (int k = 0; k < cand.count; ++k)
+    n = emitOnPatch(fr, pa, b, pb, cand.x[k], cand.feature[k], margin, n, out);
   return n;
 }
 

@@ -31,6 +31,52 @@ int linkDirection(const SceneBuild& sb, const XMLElement* e, const std::string& 
   return l;
 }
 
+// A PD position drive on a joint.
+void readPositionActuator(SceneBuild& sb, const XMLElement* e, const std::string& what, Actuator& a) {
+  checkAttributes(sb.c, e, vocabularyOf("actuator", "position").attributes);
+  a.type = ActuatorType::Position;
+  if (!has(e, "joint")) sb.c.fail(e->GetLineNum(), what + " (position) needs attribute 'joint'");
+  a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
+  if (sb.m.joints[a.joint].type == JointType::Fixed)
+    sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
+  a.kp = optNumber(sb.c, e, "kp", 0);
+  requireRange(sb.c, e, "kp", a.kp, 0, false, kInf, false);
+  a.kd = optNumber(sb.c, e, "kd", 0);
+  requireRange(sb.c, e, "kd", a.kd, 0, false, kInf, false);
+  a.max_effort = optNumber(sb.c, e, "max_effort", 0);
+  requireRange(sb.c, e, "max_effort", a.max_effort, 0, false, kInf, false);
+  a.initial_command = sb.initialPosition(a.joint);
+}
+
+// A prescribed motion: of a link along an axis (and the other 5 DOF fixed, or
+// not: constrain="axis"), or of a joint's coordinate.
+void readPrescribedActuator(SceneBuild& sb, const XMLElement* e, const std::string& what, Actuator& a) {
+  checkAttributes(sb.c, e, vocabularyOf("actuator", "prescribed").attributes);
+  a.type = ActuatorType::Prescribed;
+  if (has(e, "link") && has(e, "joint")) sb.c.fail(e->GetLineNum(), what + ": give either 'link' or 'joint', not both");
+  if (has(e, "link")) {
+    const int l = actuatedBody(sb, e, what);
+    a.body = sb.links[l].body;
+    const Vec3 ax = reqVec3(sb.c, e, "axis");
+    if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
+    a.axis = sb.links[l].world.rotate(ax).normalized();  // link frame -> world, at the initial pose
+    const std::string constrain = has(e, "constrain") ? reqString(sb.c, e, "constrain") : "all";
+    if (constrain == "axis") a.axis_only = true;
+    else if (constrain != "all")
+      sb.c.fail(e->GetLineNum(), what + ": constrain must be 'all' (the other 5 DOF fixed) or 'axis' (only the translation "
+                                        "along axis prescribed), not " + squote(constrain));
+  } else if (has(e, "joint")) {
+    if (has(e, "constrain")) sb.c.fail(e->GetLineNum(), what + ": 'constrain' applies to link= only (a joint drive prescribes its one coordinate)");
+    if (has(e, "axis")) sb.c.fail(e->GetLineNum(), what + ": 'axis' applies to link= only (a joint moves about its own axis)");
+    a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
+    if (sb.m.joints[a.joint].type == JointType::Fixed)
+      sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
+    a.initial_command = sb.initialPosition(a.joint);
+  } else {
+    sb.c.fail(e->GetLineNum(), what + " (prescribed) needs attribute 'link' or 'joint'");
+  }
+}
+
 }  // namespace
 
 void readActuator(SceneBuild& sb, const XMLElement* e) {
@@ -43,44 +89,9 @@ void readActuator(SceneBuild& sb, const XMLElement* e) {
   const std::string type = reqString(sb.c, e, "type");
   const std::string what = "actuator " + squote(a.name);
   if (type == "position") {
-    checkAttributes(sb.c, e, vocabularyOf("actuator", "position").attributes);
-    a.type = ActuatorType::Position;
-    if (!has(e, "joint")) sb.c.fail(e->GetLineNum(), what + " (position) needs attribute 'joint'");
-    a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
-    if (sb.m.joints[a.joint].type == JointType::Fixed)
-      sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
-    a.kp = optNumber(sb.c, e, "kp", 0);
-    requireRange(sb.c, e, "kp", a.kp, 0, false, kInf, false);
-    a.kd = optNumber(sb.c, e, "kd", 0);
-    requireRange(sb.c, e, "kd", a.kd, 0, false, kInf, false);
-    a.max_effort = optNumber(sb.c, e, "max_effort", 0);
-    requireRange(sb.c, e, "max_effort", a.max_effort, 0, false, kInf, false);
-    a.initial_command = sb.initialPosition(a.joint);
+    readPositionActuator(sb, e, what, a);
   } else if (type == "prescribed") {
-    checkAttributes(sb.c, e, vocabularyOf("actuator", "prescribed").attributes);
-    a.type = ActuatorType::Prescribed;
-    if (has(e, "link") && has(e, "joint")) sb.c.fail(e->GetLineNum(), what + ": give either 'link' or 'joint', not both");
-    if (has(e, "link")) {
-      const int l = actuatedBody(sb, e, what);
-      a.body = sb.links[l].body;
-      const Vec3 ax = reqVec3(sb.c, e, "axis");
-      if (!(ax.norm() > 1e-12)) sb.c.fail(e->GetLineNum(), what + ": axis must be non-zero");
-      a.axis = sb.links[l].world.rotate(ax).normalized();  // link frame -> world, at the initial pose
-      const std::string constrain = has(e, "constrain") ? reqString(sb.c, e, "constrain") : "all";
-      if (constrain == "axis") a.axis_only = true;
-      else if (constrain != "all")
-        sb.c.fail(e->GetLineNum(), what + ": constrain must be 'all' (the other 5 DOF fixed) or 'axis' (only the translation "
-                                          "along axis prescribed), not " + squote(constrain));
-    } else if (has(e, "joint")) {
-      if (has(e, "constrain")) sb.c.fail(e->GetLineNum(), what + ": 'constrain' applies to link= only (a joint drive prescribes its one coordinate)");
-      if (has(e, "axis")) sb.c.fail(e->GetLineNum(), what + ": 'axis' applies to link= only (a joint moves about its own axis)");
-      a.joint = sb.modelJoint(e, reqString(sb.c, e, "joint"), what);
-      if (sb.m.joints[a.joint].type == JointType::Fixed)
-        sb.c.fail(e->GetLineNum(), what + ": joint " + squote(sb.m.joints[a.joint].name) + " is fixed");
-      a.initial_command = sb.initialPosition(a.joint);
-    } else {
-      sb.c.fail(e->GetLineNum(), what + " (prescribed) needs attribute 'link' or 'joint'");
-    }
+    readPrescribedActuator(sb, e, what, a);
   } else if (type == "force") {
     checkAttributes(sb.c, e, vocabularyOf("actuator", "force").attributes);
     a.type = ActuatorType::Force;

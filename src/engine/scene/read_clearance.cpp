@@ -7,6 +7,25 @@
 
 namespace nscd {
 
+namespace {
+
+// initial_offset, world frame at the initial placement: its radial part must leave
+// the journal inside the bore, its axial part inside the axial play.
+void readInitialOffset(SceneBuild& sb, const XMLElement* e, const std::string& name, ClearanceJoint& cj) {
+  cj.initial_offset = reqVec3(sb.c, e, "initial_offset");
+  const Quat qb = cj.bearing_body == kGround ? Quat::Identity() : sb.m.bodies[cj.bearing_body].initial_pose.q;
+  const Vec3 n = (qb * cj.bearing_axis).normalized();
+  const double axial = cj.initial_offset.dot(n);
+  const double radial = (cj.initial_offset - axial * n).norm();
+  if (!(radial < cj.radial) || !(std::abs(axial) <= 0.5 * cj.axial))
+    sb.c.fail(e->GetLineNum(), "initial_offset of clearance " + squote(name) + " leaves the journal outside its bearing: radial " +
+                                   num(radial) + " m (must be < radial " + num(cj.radial) + "), axial " + num(axial) +
+                                   " m (must be within +-axial/2 = " + num(0.5 * cj.axial) + ")");
+  cj.has_initial_offset = true;
+}
+
+}  // namespace
+
 // ---------------------------------------------------------------- clearance
 void readClearance(SceneBuild& sb, const XMLElement* e) {
   checkElement(sb.c, e, "clearance");
@@ -53,20 +72,7 @@ void readClearance(SceneBuild& sb, const XMLElement* e) {
   cj.bearing_center = jp ? j.anchor_b : j.anchor_a;
   cj.bearing_axis = jp ? j.axis_b : j.axis_a;
   cj.bearing_ref = anyOrthogonal(cj.bearing_axis);
-  if (has(e, "initial_offset")) {
-    // World frame at the initial placement: its radial part must leave the journal
-    // inside the bore, its axial part inside the axial play.
-    cj.initial_offset = reqVec3(sb.c, e, "initial_offset");
-    const Quat qb = cj.bearing_body == kGround ? Quat::Identity() : sb.m.bodies[cj.bearing_body].initial_pose.q;
-    const Vec3 n = (qb * cj.bearing_axis).normalized();
-    const double axial = cj.initial_offset.dot(n);
-    const double radial = (cj.initial_offset - axial * n).norm();
-    if (!(radial < cj.radial) || !(std::abs(axial) <= 0.5 * cj.axial))
-      sb.c.fail(e->GetLineNum(), "initial_offset of clearance " + squote(name) + " leaves the journal outside its bearing: radial " +
-                                     num(radial) + " m (must be < radial " + num(cj.radial) + "), axial " + num(axial) +
-                                     " m (must be within +-axial/2 = " + num(0.5 * cj.axial) + ")");
-    cj.has_initial_offset = true;
-  }
+  if (has(e, "initial_offset")) readInitialOffset(sb, e, name, cj);
   cj.src = SourceRef{sb.c.file, e->GetLineNum()};
   j.clearance = static_cast<int>(sb.m.clearance_joints.size());
   sb.m.clearance_joints.push_back(cj);

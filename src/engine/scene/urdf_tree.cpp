@@ -185,9 +185,10 @@ void parseSceneXml(SceneBuild& sb) {
     sb.c.fail(sb.robot->GetLineNum(), "not a URDF: root element is " + tag(sb.robot) + ", expected <robot>");
 }
 
-// Tree structure from tinyxml2, so every URDF-level error has a line.
-void prepassUrdf(SceneBuild& sb) {
-  if (!has(sb.robot, "name")) sb.c.fail(sb.robot->GetLineNum(), "<robot> is missing attribute 'name'");
+namespace {
+
+// <link>s: names unique; a LinkInfo each, in document order.
+void readUrdfLinks(SceneBuild& sb) {
   for (const XMLElement* e = sb.robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
     const std::string n = reqString(sb.c, e, "name");
     if (sb.link_index.count(n))
@@ -200,7 +201,11 @@ void prepassUrdf(SceneBuild& sb) {
     li.inertial = e->FirstChildElement("inertial") != nullptr;
     sb.links.push_back(li);
   }
-  if (sb.links.empty()) sb.c.fail(sb.robot->GetLineNum(), "<robot> has no <link>");
+}
+
+// <joint>s: names unique, known types, parent and child links that exist, every
+// link the child of one joint at most.
+void readUrdfJoints(SceneBuild& sb) {
   for (const XMLElement* e = sb.robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
     JointInfo j;
     j.name = reqString(sb.c, e, "name");
@@ -229,6 +234,10 @@ void prepassUrdf(SceneBuild& sb) {
     sb.joint_index[j.name] = static_cast<int>(sb.joints.size());
     sb.joints.push_back(j);
   }
+}
+
+// The one root link (no parent joint), from which every link is reached.
+void findRootLink(SceneBuild& sb) {
   std::vector<int> roots;
   for (size_t i = 0; i < sb.links.size(); ++i)
     if (sb.links[i].parent_joint < 0) roots.push_back(static_cast<int>(i));
@@ -251,8 +260,9 @@ void prepassUrdf(SceneBuild& sb) {
   }
   for (size_t i = 0; i < sb.links.size(); ++i)
     if (!seen[i]) sb.c.fail(sb.linkLine(static_cast<int>(i)), "link " + squote(sb.links[i].name) + " is not connected to the root link " + squote(sb.links[sb.root].name) + " (cycle of joints)");
-  for (const LinkInfo& l : sb.links) checkUrdfNumbers(sb.c, l.elem);
-  for (const JointInfo& j : sb.joints) checkUrdfNumbers(sb.c, j.elem);
+}
+
+void checkNscdPlacement(SceneBuild& sb) {
   // <nscd> belongs directly under <robot>.
   std::vector<const XMLElement*> todo{sb.robot};
   while (!todo.empty()) {
@@ -266,9 +276,25 @@ void prepassUrdf(SceneBuild& sb) {
   }
 }
 
-// urdfdom reads the values; its messages are captured and given a line when
-// they name a link or joint.
-void parseUrdfdom(SceneBuild& sb) {
+}  // namespace
+
+// Tree structure from tinyxml2, so every URDF-level error has a line.
+void prepassUrdf(SceneBuild& sb) {
+  if (!has(sb.robot, "name")) sb.c.fail(sb.robot->GetLineNum(), "<robot> is missing attribute 'name'");
+  readUrdfLinks(sb);
+  if (sb.links.empty()) sb.c.fail(sb.robot->GetLineNum(), "<robot> has no <link>");
+  readUrdfJoints(sb);
+  findRootLink(sb);
+  for (const LinkInfo& l : sb.links) checkUrdfNumbers(sb.c, l.elem);
+  for (const JointInfo& j : sb.joints) checkUrdfNumbers(sb.c, j.elem);
+  checkNscdPlacement(sb);
+}
+
+namespace {
+
+// urdfdom's model of the text; its messages captured and, when it fails, one
+// message with the line of the first link or joint they name.
+urdf::ModelInterfaceSharedPtr runUrdfdom(SceneBuild& sb) {
   urdf::ModelInterfaceSharedPtr model;
   std::vector<std::string> errors;
   {
@@ -299,8 +325,13 @@ void parseUrdfdom(SceneBuild& sb) {
       if (ch == '\n' || ch == '\r') ch = ' ';
     sb.c.fail(line, "URDF error: " + (msg.empty() ? std::string("urdfdom rejected the file") : msg));
   }
+  return model;
+}
+
+// The joints' origins and axes as urdfdom read them.
+void readUrdfdomJoints(SceneBuild& sb, const urdf::ModelInterface& model) {
   for (JointInfo& j : sb.joints) {
-    auto uj = model->getJoint(j.name);
+    auto uj = model.getJoint(j.name);
     if (!uj) sb.c.fail(j.elem->GetLineNum(), "URDF error: joint " + squote(j.name) + " not found by urdfdom");
     j.origin = fromUrdf(uj->parent_to_joint_origin_transform);
     const int line = j.elem->FirstChildElement("axis") ? j.elem->FirstChildElement("axis")->GetLineNum()
@@ -312,6 +343,50 @@ void parseUrdfdom(SceneBuild& sb) {
       j.axis = a.normalized();
     }
   }
+}
+
+// The body of a link with an <inertial>: its mass and inertia, checked, and the
+// link's frame seen from the body frame.
+void addLinkBody(SceneBuild& sb, LinkInfo& l, const urdf::Inertial& in) {
+  const XMLElement* ie = l.elem->FirstChildElement("inertial");
+  const XMLElement* me = ie ? ie->FirstChildElement("mass") : nullptr;
+  const XMLElement* ne = ie ? ie->FirstChildElement("inertia") : nullptr;
+  const int iline = ie ? ie->GetLineNum() : l.elem->GetLineNum();
+  if (l.parent_joint < 0)
+    sb.c.fail(iline, "root link " + squote(l.name) + " must be ground (no <inertial>)");
+  Body b;
+  b.name = l.name;
+  b.mass = in.mass;
+  const int mline = me ? me->GetLineNum() : iline;
+  if (!std::isfinite(b.mass) || b.mass <= 0)
+    sb.c.fail(mline, "link " + squote(l.name) + ": mass must be > 0, got " + num(b.mass));
+  if (b.mass > kMaxMass)
+    sb.c.fail(mline, "link " + squote(l.name) + ": mass " + num(b.mass) + " kg exceeds the limit of " + num(kMaxMass) + " kg");
+  b.inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const int nline = ne ? ne->GetLineNum() : iline;
+  if (!b.inertia.allFinite())
+    sb.c.fail(nline, "link " + squote(l.name) + ": inertia is not finite");
+  Eigen::SelfAdjointEigenSolver<Mat3> es(b.inertia, Eigen::EigenvaluesOnly);
+  const Vec3 ev = es.eigenvalues();
+  if (!(ev.minCoeff() > 0))
+    sb.c.fail(nline, "link " + squote(l.name) + ": inertia is not positive definite (eigenvalues " +
+                       num(ev[0]) + ", " + num(ev[1]) + ", " + num(ev[2]) + ")");
+  if (ev.maxCoeff() > kMaxInertia)
+    sb.c.fail(nline, "link " + squote(l.name) + ": inertia " + num(ev.maxCoeff()) +
+                       " kg m^2 exceeds the limit of " + num(kMaxInertia) + " kg m^2");
+  // Body frame = inertial origin: the link frame seen from the body frame is its inverse.
+  l.in_body = fromUrdf(in.origin).inverse();
+  l.body = static_cast<int>(sb.m.bodies.size());
+  sb.m.bodies.push_back(b);
+}
+
+}  // namespace
+
+// urdfdom reads the values; its messages are captured and given a line when
+// they name a link or joint.
+void parseUrdfdom(SceneBuild& sb) {
+  const urdf::ModelInterfaceSharedPtr model = runUrdfdom(sb);
+  readUrdfdomJoints(sb, *model);
   for (LinkInfo& l : sb.links) {
     auto ul = model->getLink(l.name);
     if (!ul) sb.c.fail(l.elem->GetLineNum(), "URDF error: link " + squote(l.name) + " not found by urdfdom");
@@ -319,37 +394,7 @@ void parseUrdfdom(SceneBuild& sb) {
       l.inertial = false;
       continue;
     }
-    const XMLElement* ie = l.elem->FirstChildElement("inertial");
-    const XMLElement* me = ie ? ie->FirstChildElement("mass") : nullptr;
-    const XMLElement* ne = ie ? ie->FirstChildElement("inertia") : nullptr;
-    const int iline = ie ? ie->GetLineNum() : l.elem->GetLineNum();
-    if (l.parent_joint < 0)
-      sb.c.fail(iline, "root link " + squote(l.name) + " must be ground (no <inertial>)");
-    const auto& in = *ul->inertial;
-    Body b;
-    b.name = l.name;
-    b.mass = in.mass;
-    const int mline = me ? me->GetLineNum() : iline;
-    if (!std::isfinite(b.mass) || b.mass <= 0)
-      sb.c.fail(mline, "link " + squote(l.name) + ": mass must be > 0, got " + num(b.mass));
-    if (b.mass > kMaxMass)
-      sb.c.fail(mline, "link " + squote(l.name) + ": mass " + num(b.mass) + " kg exceeds the limit of " + num(kMaxMass) + " kg");
-    b.inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-    const int nline = ne ? ne->GetLineNum() : iline;
-    if (!b.inertia.allFinite())
-      sb.c.fail(nline, "link " + squote(l.name) + ": inertia is not finite");
-    Eigen::SelfAdjointEigenSolver<Mat3> es(b.inertia, Eigen::EigenvaluesOnly);
-    const Vec3 ev = es.eigenvalues();
-    if (!(ev.minCoeff() > 0))
-      sb.c.fail(nline, "link " + squote(l.name) + ": inertia is not positive definite (eigenvalues " +
-                         num(ev[0]) + ", " + num(ev[1]) + ", " + num(ev[2]) + ")");
-    if (ev.maxCoeff() > kMaxInertia)
-      sb.c.fail(nline, "link " + squote(l.name) + ": inertia " + num(ev.maxCoeff()) +
-                         " kg m^2 exceeds the limit of " + num(kMaxInertia) + " kg m^2");
-    // Body frame = inertial origin: the link frame seen from the body frame is its inverse.
-    l.in_body = fromUrdf(in.origin).inverse();
-    l.body = static_cast<int>(sb.m.bodies.size());
-    sb.m.bodies.push_back(b);
+    addLinkBody(sb, l, *ul->inertial);
   }
 }
 

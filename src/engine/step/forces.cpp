@@ -242,25 +242,26 @@ double springLoadPowerAt(const Model& m, const State& s, int spring) {
   return fa.head<3>().dot(a.v) + fa.tail<3>().dot(a.w) + fb.head<3>().dot(b.v) + fb.tail<3>().dot(b.w);
 }
 
-void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
-                   bool with_jacobians) {
-  const std::vector<double>& commands = s.commands;
-  ws.F.setZero();
-  // K and C are nonzero only within the stiff groups (the bodies springs and PD
-  // actuators join): only those blocks are cleared and symmetrised.
-  const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
-  if (with_jacobians)
-    for (const std::vector<int>& g : groups)
-      for (int bc : g) {
-        ws.K_skew_v.segment<6>(6 * bc).setZero();
-        for (int br : g) {
-          ws.K.block<6, 6>(6 * br, 6 * bc).setZero();
-          ws.C.block<6, 6>(6 * br, 6 * bc).setZero();
-        }
+namespace {
+
+// K and C are nonzero only within the stiff groups (the bodies springs and PD
+// actuators join): only those blocks are cleared (and symmetrised, below).
+void clearStiffBlocks(StepWorkspace& ws) {
+  for (const std::vector<int>& g : ws.facts.stiff_groups)
+    for (int bc : g) {
+      ws.K_skew_v.segment<6>(6 * bc).setZero();
+      for (int br : g) {
+        ws.K.block<6, 6>(6 * br, 6 * bc).setZero();
+        ws.C.block<6, 6>(6 * br, 6 * bc).setZero();
       }
+    }
+}
+
+// Gravity, and the force and torque actuators: explicit.
+void addGravityAndActuatorLoads(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out) {
+  const std::vector<double>& commands = s.commands;
   const Vec3 g = m.settings.gravity;
   for (int i = 0; i < ws.nbodies; ++i) ws.F.segment<3>(6 * i) += m.bodies[i].mass * g;
-  // Force and torque actuators: explicit.
   for (size_t i = 0; i < m.actuators.size(); ++i) {
     const Actuator& ac = m.actuators[i];
     if (ac.type == ActuatorType::Torque) {  // a pure moment about a body-fixed axis
@@ -276,103 +277,131 @@ void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutput
     ws.F.segment<6>(6 * ac.body) += gf;
     out.actuator_effort[i] = commands[i];
   }
-  // Springs and PD actuators, with their stiffness and damping.
-  auto element = [&](const Element& el) {
-    const BodyState& a0 = bodyOrGround(s, el.body_a);
-    const BodyState& b0 = bodyOrGround(s, el.body_b);
-    Vec6 fa, fb;
-    double report = 0;
-    const double ref = el.is_spring ? angleReference(m.springs[el.index], s) : s.joint_position[el.joint];
-    elementForce(m, el, a0, b0, commands, ref, fa, fb, report);
-    if (!el.is_spring) out.actuator_effort[el.index] = report;
-    if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
-    if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
-    if (!with_jacobians) return;
-    // Central differences over the 6 velocity and 6 position DOF of each body.
-    // Without damping the force does not depend on the velocities (they enter
-    // multiplied by 0): its velocity columns are exactly 0 and are skipped.
-    const bool damped = el.is_spring ? m.springs[el.index].damping != 0
-                                     : m.actuators[el.index].kd != 0;
-    // A torsion spring, and a PD actuator on a revolute joint, read only
-    // orientations and angular velocities, and so do their body-fixed loads (a
-    // world force R d, a body torque p x d): their columns of x and v are exactly
-    // 0 as well, and are skipped.
-    const bool rotational = el.is_spring ? m.springs[el.index].type == SpringType::Torsion
-                                         : m.joints[el.joint].type != JointType::Prismatic;
-    // An undamped linear spring's K in closed form (agrees with the differences
-    // to their round-off, ~1e-10 of |K|, at a fraction of the cost).
-    const bool follower = el.is_spring && !m.springs[el.index].loads.empty();
-    if (el.is_spring && !damped && m.springs[el.index].type == SpringType::Linear && !follower &&
-        addLinearSpringStiffness(m.springs[el.index], a0, b0, el.body_a, el.body_b, ws.K))
-      return;
-    // Body-fixed loads turn with their body: their K is not symmetric. Its symmetric
-    // part goes into K (below) and the iteration matrix; the rest, (K - K^T)/2 v_k,
-    // into K_skew_v, which the step adds explicitly (iteration_matrix.cpp): without
-    // it a follower force through a spinning body's centre would turn the body.
-    auto velocityOf = [&](int body) {
-      Vec6 v;
-      v << s.bodies[body].v, s.bodies[body].w;
-      return v;
-    };
-    const int bodies[2] = {el.body_a, el.body_b};
-    for (int side = 0; side < 2; ++side) {
-      const int bj = bodies[side];
-      if (bj == kGround) continue;
-      const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
-      for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
-        for (int dof = rotational ? 3 : 0; dof < 6; ++dof) {
-          const double eps = pos ? (dof < 3 ? scale_x : kTurnStep) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
-          BodyState ap = a0, bp = b0, am = a0, bm = b0;
-          perturb(side == 0 ? ap : bp, dof, eps, pos);
-          perturb(side == 0 ? am : bm, dof, -eps, pos);
-          Vec6 fap, fbp, fam, fbm;
-          double r;
-          elementForce(m, el, ap, bp, commands, ref, fap, fbp, r);
-          elementForce(m, el, am, bm, commands, ref, fam, fbm, r);
-          Eigen::MatrixXd& D = pos ? ws.K : ws.C;
-          const int col = 6 * bj + dof;
-          const Vec6 ka = (fap - fam) / (2 * eps), kb = (fbp - fbm) / (2 * eps);
-          if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += ka;
-          if (el.body_b != kGround) D.block<6, 1>(6 * el.body_b, col) += kb;
-          if (!follower || !pos) continue;
-          // This column's share of (K - K^T)/2 v: column x v[col], minus (column . v) at col.
-          const double v_col = velocityOf(bj)[dof];
-          double along = 0;
-          if (el.body_a != kGround) {
-            ws.K_skew_v.segment<6>(6 * el.body_a) += (0.5 * v_col) * ka;
-            along += ka.dot(velocityOf(el.body_a));
-          }
-          if (el.body_b != kGround) {
-            ws.K_skew_v.segment<6>(6 * el.body_b) += (0.5 * v_col) * kb;
-            along += kb.dot(velocityOf(el.body_b));
-          }
-          ws.K_skew_v[col] -= 0.5 * along;
+}
+
+Vec6 bodyVelocity(const State& s, int body) {
+  Vec6 v;
+  v << s.bodies[body].v, s.bodies[body].w;
+  return v;
+}
+
+// An element's columns of K = dF/dq and C = dF/dv by central differences over
+// the 6 velocity and 6 position DOF of each of its bodies (columns known to be
+// exactly 0 skipped), and of a follower load's (K - K^T)/2 v_k into K_skew_v.
+// a0, b0: its bodies' states; ref: its angle reference (elementForce).
+void addElementDerivatives(const Model& m, const State& s, const Element& el, const BodyState& a0,
+                           const BodyState& b0, double ref, bool damped, bool rotational,
+                           bool follower, StepWorkspace& ws) {
+  const std::vector<double>& commands = s.commands;
+  const int bodies[2] = {el.body_a, el.body_b};
+  for (int side = 0; side < 2; ++side) {
+    const int bj = bodies[side];
+    if (bj == kGround) continue;
+    const double scale_x = 1e-7 * (1.0 + s.bodies[bj].x.norm());
+    for (int pos = damped ? 0 : 1; pos < 2; ++pos) {
+      for (int dof = rotational ? 3 : 0; dof < 6; ++dof) {
+        const double eps = pos ? (dof < 3 ? scale_x : kTurnStep) : 1e-6 * (1.0 + s.bodies[bj].v.norm() + s.bodies[bj].w.norm());
+        BodyState ap = a0, bp = b0, am = a0, bm = b0;
+        perturb(side == 0 ? ap : bp, dof, eps, pos);
+        perturb(side == 0 ? am : bm, dof, -eps, pos);
+        Vec6 fap, fbp, fam, fbm;
+        double r;
+        elementForce(m, el, ap, bp, commands, ref, fap, fbp, r);
+        elementForce(m, el, am, bm, commands, ref, fam, fbm, r);
+        Eigen::MatrixXd& D = pos ? ws.K : ws.C;
+        const int col = 6 * bj + dof;
+        const Vec6 ka = (fap - fam) / (2 * eps), kb = (fbp - fbm) / (2 * eps);
+        if (el.body_a != kGround) D.block<6, 1>(6 * el.body_a, col) += ka;
+        if (el.body_b != kGround) D.block<6, 1>(6 * el.body_b, col) += kb;
+        if (!follower || !pos) continue;
+        // This column's share of (K - K^T)/2 v: column x v[col], minus (column . v) at col.
+        const double v_col = bodyVelocity(s, bj)[dof];
+        double along = 0;
+        if (el.body_a != kGround) {
+          ws.K_skew_v.segment<6>(6 * el.body_a) += (0.5 * v_col) * ka;
+          along += ka.dot(bodyVelocity(s, el.body_a));
         }
+        if (el.body_b != kGround) {
+          ws.K_skew_v.segment<6>(6 * el.body_b) += (0.5 * v_col) * kb;
+          along += kb.dot(bodyVelocity(s, el.body_b));
+        }
+        ws.K_skew_v[col] -= 0.5 * along;
       }
     }
-  };
+  }
+}
+
+// A spring or PD actuator: its force on its bodies, its effort (actuators), and
+// with_jacobians its share of K and C.
+void addElement(const Model& m, const State& s, const Element& el, bool with_jacobians, StepWorkspace& ws,
+                StepOutputs& out) {
+  const BodyState& a0 = bodyOrGround(s, el.body_a);
+  const BodyState& b0 = bodyOrGround(s, el.body_b);
+  Vec6 fa, fb;
+  double report = 0;
+  const double ref = el.is_spring ? angleReference(m.springs[el.index], s) : s.joint_position[el.joint];
+  elementForce(m, el, a0, b0, s.commands, ref, fa, fb, report);
+  if (!el.is_spring) out.actuator_effort[el.index] = report;
+  if (el.body_a != kGround) ws.F.segment<6>(6 * el.body_a) += fa;
+  if (el.body_b != kGround) ws.F.segment<6>(6 * el.body_b) += fb;
+  if (!with_jacobians) return;
+  // Without damping the force does not depend on the velocities (they enter
+  // multiplied by 0): its velocity columns are exactly 0 and are skipped.
+  const bool damped = el.is_spring ? m.springs[el.index].damping != 0
+                                   : m.actuators[el.index].kd != 0;
+  // A torsion spring, and a PD actuator on a revolute joint, read only
+  // orientations and angular velocities, and so do their body-fixed loads (a
+  // world force R d, a body torque p x d): their columns of x and v are exactly
+  // 0 as well, and are skipped.
+  const bool rotational = el.is_spring ? m.springs[el.index].type == SpringType::Torsion
+                                       : m.joints[el.joint].type != JointType::Prismatic;
+  // An undamped linear spring's K in closed form (agrees with the differences
+  // to their round-off, ~1e-10 of |K|, at a fraction of the cost).
+  const bool follower = el.is_spring && !m.springs[el.index].loads.empty();
+  if (el.is_spring && !damped && m.springs[el.index].type == SpringType::Linear && !follower &&
+      addLinearSpringStiffness(m.springs[el.index], a0, b0, el.body_a, el.body_b, ws.K))
+    return;
+  // Body-fixed loads turn with their body: their K is not symmetric. Its symmetric
+  // part goes into K (below) and the iteration matrix; the rest, (K - K^T)/2 v_k,
+  // into K_skew_v, which the step adds explicitly (iteration_matrix.cpp): without
+  // it a follower force through a spinning body's centre would turn the body.
+  addElementDerivatives(m, s, el, a0, b0, ref, damped, rotational, follower, ws);
+}
+
+// Only the symmetric part of K and C enters the iteration matrix (it must stay SPD).
+void symmetriseStiffBlocks(StepWorkspace& ws) {
+  for (Eigen::MatrixXd* D : {&ws.K, &ws.C})
+    for (const std::vector<int>& g : ws.facts.stiff_groups)
+      for (int bc : g)
+        for (int c = 6 * bc; c < 6 * bc + 6; ++c)
+          for (int br : g)
+            for (int r = std::max(6 * br, c + 1); r < 6 * br + 6; ++r) {
+              const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
+              (*D)(r, c) = avg;
+              (*D)(c, r) = avg;
+            }
+}
+
+}  // namespace
+
+void computeForces(const Model& m, const State& s, StepWorkspace& ws, StepOutputs& out,
+                   bool with_jacobians) {
+  ws.F.setZero();
+  if (with_jacobians) clearStiffBlocks(ws);
+  addGravityAndActuatorLoads(m, s, ws, out);
+  // Springs and PD actuators, with their stiffness and damping.
   for (size_t i = 0; i < m.springs.size(); ++i)
-    element(Element{true, static_cast<int>(i), m.springs[i].body_a, m.springs[i].body_b,
-                    m.springs[i].type == SpringType::Torsion ? m.springs[i].joint : -1});
+    addElement(m, s,
+               Element{true, static_cast<int>(i), m.springs[i].body_a, m.springs[i].body_b,
+                       m.springs[i].type == SpringType::Torsion ? m.springs[i].joint : -1},
+               with_jacobians, ws, out);
   for (size_t i = 0; i < m.actuators.size(); ++i) {
     const Actuator& ac = m.actuators[i];
     if (ac.type != ActuatorType::Position) continue;
     const Joint& j = m.joints[ac.joint];
-    element(Element{false, static_cast<int>(i), j.body_a, j.body_b, ac.joint});
+    addElement(m, s, Element{false, static_cast<int>(i), j.body_a, j.body_b, ac.joint}, with_jacobians, ws, out);
   }
-  if (with_jacobians) {
-    // Only the symmetric part enters the iteration matrix (it must stay SPD).
-    for (Eigen::MatrixXd* D : {&ws.K, &ws.C})
-      for (const std::vector<int>& g : groups)
-        for (int bc : g)
-          for (int c = 6 * bc; c < 6 * bc + 6; ++c)
-            for (int br : g)
-              for (int r = std::max(6 * br, c + 1); r < 6 * br + 6; ++r) {
-                const double avg = 0.5 * ((*D)(r, c) + (*D)(c, r));
-                (*D)(r, c) = avg;
-                (*D)(c, r) = avg;
-              }
-  }
+  if (with_jacobians) symmetriseStiffBlocks(ws);
 }
 
 }  // namespace nscd

@@ -11,33 +11,92 @@
 
 namespace nscd {
 
-void buildFrictionContactProblem(const Model& m, const State& s, double h, int kept,
-                                 StepWorkspace& ws, StepStats& st) {
+namespace {
+
+// b = G v_free, the local free velocities of the rows.
+void localFreeVelocities(StepWorkspace& ws) {
+  const auto G = ws.G.topRows(ws.rows);
+  if ((ws.vfree.array() * 0.0).sum() != 0) {  // an entry not finite (friction_contact_solver.cpp)
+    ws.b.head(ws.rows).noalias() = G * ws.vfree;
+    return;
+  }
+  // b = G v_free over each row's nonzero columns only (its block's bodies, in column
+  // order): the sum Eigen's gemv forms, less its exact +-0 terms (G is zero outside
+  // those columns, clearConstraintRows), which change no partial sum that is not
+  // zero; a zero sum comes out +0 both ways (c * 1 + 0, as gemv adds it to the
+  // zeroed b). A non-finite v_free (0 * inf) takes the dense product (above).
+  for (const ConstraintBlock& blk : ws.blocks) {
+    int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
+    if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
+      std::swap(bodies[0], bodies[1]);
+    for (int k = 0; k < blk.size; ++k) {
+      const int i = blk.row + k;
+      double c = 0;
+      for (int body : bodies) {
+        if (body == kGround) continue;
+        for (int j = 6 * body; j < 6 * body + 6; ++j) c += ws.G(i, j) * ws.vfree[j];
+      }
+      ws.b[i] = c * 1.0 + 0.0;
+    }
+  }
+}
+
+// A bilateral block: its rheonomic target, the workless average of an ideal joint
+// (joint_average > 0), and warm its last step's impulses.
+void setBilateralBlock(const State& s, const ConstraintBlock& blk, double joint_average, bool warm,
+                       StepWorkspace& ws) {
+  const auto G = ws.G.topRows(ws.rows);
+  for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
+  // Workless joints: theta G v_{k+1} + (1 - theta) G v_k = 0 (see JointWork).
+  if (blk.joint >= 0 && joint_average > 0)
+    for (int k = 0; k < blk.size; ++k)
+      ws.b[blk.row + k] += joint_average * G.row(blk.row + k).dot(ws.vk);
+  const int base = blk.joint >= 0 ? ws.facts.joint_row_base[blk.joint]
+                                  : ws.facts.actuator_row_base[blk.actuator];
+  if (warm)
+    for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = s.warm_bilateral[base + k];
+}
+
+// A contact block: the impact law's shift of its normal row, warm its last
+// step's impulses, and in planar mode its out-of-plane tangent row made void.
+void setContactBlock(const Model& m, const State& s, const ConstraintBlock& blk, double h, bool warm,
+                     StepWorkspace& ws) {
   const int r = ws.rows;
   const auto G = ws.G.topRows(r);
-  if ((ws.vfree.array() * 0.0).sum() == 0) {  // every entry finite (friction_contact_solver.cpp)
-    // b = G v_free over each row's nonzero columns only (its block's bodies, in column
-    // order): the sum Eigen's gemv forms, less its exact +-0 terms (G is zero outside
-    // those columns, clearConstraintRows), which change no partial sum that is not
-    // zero; a zero sum comes out +0 both ways (c * 1 + 0, as gemv adds it to the
-    // zeroed b). A non-finite v_free (0 * inf) takes the dense product.
-    for (const ConstraintBlock& blk : ws.blocks) {
-      int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
-      if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
-        std::swap(bodies[0], bodies[1]);
-      for (int k = 0; k < blk.size; ++k) {
-        const int i = blk.row + k;
-        double c = 0;
-        for (int body : bodies) {
-          if (body == kGround) continue;
-          for (int j = 6 * body; j < 6 * body + 6; ++j) c += ws.G(i, j) * ws.vfree[j];
-        }
-        ws.b[i] = c * 1.0 + 0.0;
-      }
-    }
-  } else {
-    ws.b.head(r).noalias() = G * ws.vfree;
+  // Newton impact law: U_N+ >= -e U_N- on every active contact, a separating one
+  // too (design.md). Then v = -e v_k meets every normal condition, so the
+  // frictionless problem (a convex QP in v) always has a solution. With the shift
+  // on approaching contacts only, a body between two active contacts (a journal
+  // touching both sides of a tight bearing, within the margin) moving into one of
+  // them has none: the other's U_N+ >= 0 contradicts the first's U_N+ >= e |U_N-|.
+  const double un_k = G.row(blk.row).dot(ws.vk);
+  ws.b[blk.row] += blk.contact.e * un_k;
+  // A late contact (not active at q_k, joined because the answer closes it) may
+  // also close its gap g in the step: U_N+ >= -e U_N- - g/h. Held to U_N+ >=
+  // -e U_N- like a contact that touches, it stopped its body g short, and a link
+  // kicked across a tight bearing had no answer (stress cases 366, 721, 66).
+  ws.b[blk.row] += blk.contact.late_slack / h;
+  if (warm) {
+    const int slot = blk.contact.slot;
+    const bool valid = slot >= 0 && s.warm_valid[slot] != 0;
+    for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = valid ? s.warm[slot][k] : 0.0;
   }
+  if (m.settings.planar == PlanarMode::XY && blk.size == 3) {
+    // The out-of-plane tangent row is void: decouple it so P_T2 stays 0.
+    const int t2 = blk.row + 2;
+    ws.W.row(t2).head(r).setZero();
+    ws.W.col(t2).head(r).setZero();
+    ws.W(t2, t2) = std::max(ws.W(blk.row + 1, blk.row + 1), 1e-300);
+    ws.b[t2] = 0;
+    ws.P[t2] = 0;
+  }
+}
+
+}  // namespace
+
+void buildFrictionContactProblem(const Model& m, const State& s, double h, int kept,
+                                 StepWorkspace& ws, StepStats& st) {
+  localFreeVelocities(ws);
   ws.problem.clear();
   st.active_contacts = 0;
   const double theta = m.settings.theta;
@@ -53,45 +112,11 @@ void buildFrictionContactProblem(const Model& m, const State& s, double h, int k
     // Rows below `kept` start from the current ws.P (a re-solve), the others warm.
     const bool warm = blk.row >= kept;
     if (blk.kind == BlockKind::Bilateral) {
-      for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
-      // Workless joints: theta G v_{k+1} + (1 - theta) G v_k = 0 (see JointWork).
-      if (blk.joint >= 0 && joint_average > 0)
-        for (int k = 0; k < blk.size; ++k)
-          ws.b[blk.row + k] += joint_average * G.row(blk.row + k).dot(ws.vk);
-      const int base = blk.joint >= 0 ? ws.facts.joint_row_base[blk.joint]
-                                      : ws.facts.actuator_row_base[blk.actuator];
-      if (warm)
-        for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = s.warm_bilateral[base + k];
+      setBilateralBlock(s, blk, joint_average, warm, ws);
       continue;
     }
     ++st.active_contacts;
-    // Newton impact law: U_N+ >= -e U_N- on every active contact, a separating one
-    // too (design.md). Then v = -e v_k meets every normal condition, so the
-    // frictionless problem (a convex QP in v) always has a solution. With the shift
-    // on approaching contacts only, a body between two active contacts (a journal
-    // touching both sides of a tight bearing, within the margin) moving into one of
-    // them has none: the other's U_N+ >= 0 contradicts the first's U_N+ >= e |U_N-|.
-    const double un_k = G.row(blk.row).dot(ws.vk);
-    ws.b[blk.row] += blk.contact.e * un_k;
-    // A late contact (not active at q_k, joined because the answer closes it) may
-    // also close its gap g in the step: U_N+ >= -e U_N- - g/h. Held to U_N+ >=
-    // -e U_N- like a contact that touches, it stopped its body g short, and a link
-    // kicked across a tight bearing had no answer (stress cases 366, 721, 66).
-    ws.b[blk.row] += blk.contact.late_slack / h;
-    if (warm) {
-      const int slot = blk.contact.slot;
-      const bool valid = slot >= 0 && s.warm_valid[slot] != 0;
-      for (int k = 0; k < blk.size; ++k) ws.P[blk.row + k] = valid ? s.warm[slot][k] : 0.0;
-    }
-    if (m.settings.planar == PlanarMode::XY && blk.size == 3) {
-      // The out-of-plane tangent row is void: decouple it so P_T2 stays 0.
-      const int t2 = blk.row + 2;
-      ws.W.row(t2).head(r).setZero();
-      ws.W.col(t2).head(r).setZero();
-      ws.W(t2, t2) = std::max(ws.W(blk.row + 1, blk.row + 1), 1e-300);
-      ws.b[t2] = 0;
-      ws.P[t2] = 0;
-    }
+    setContactBlock(m, s, blk, h, warm, ws);
   }
 }
 

@@ -98,23 +98,10 @@ bool groupInverse(Eigen::MatrixXd& A, Eigen::MatrixXd& Li, std::vector<int>& dof
   return true;
 }
 
-}  // namespace
-
-void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
-                              Eigen::VectorXd& y) {
-  // Ŵ couples a body only with those of its stiff group: its 6 x 6 blocks there.
-  for (int b = 0; b < ws.nbodies; ++b)
-    for (int c : ws.facts.coupled[b])
-      y.segment<6>(6 * c).noalias() += ws.iteration_inverse.block<6, 6>(6 * c, 6 * b) * x.segment<6>(6 * b);
-}
-
-void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st) {
-  const double theta = m.settings.theta;
-  const int n = ws.n;
-  ws.rhs.noalias() = h * ws.F;
-  if (!ws.facts.stiff) return;
-  // K is nonzero only within the stiff groups (forces.cpp). Its skew part (springs
-  // with body-fixed loads) enters the rhs only, explicitly: A must stay SPD.
+// rhs += h^2 theta (K v_k + K_skew_v). K is nonzero only within the stiff groups
+// (forces.cpp). Its skew part (springs with body-fixed loads) enters the rhs only,
+// explicitly: A must stay SPD.
+void addStiffnessImpulse(double h, double theta, StepWorkspace& ws) {
   for (const std::vector<int>& g : ws.facts.stiff_groups)
     for (int br : g) {
       for (int bc : g)
@@ -122,47 +109,55 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
             (h * h * theta) * (ws.K.block<6, 6>(6 * br, 6 * bc) * ws.vk.segment<6>(6 * bc));
       ws.rhs.segment<6>(6 * br) += (h * h * theta) * ws.K_skew_v.segment<6>(6 * br);
     }
-  if (!ws.facts.planar) {
-    // C and K couple only the bodies of a stiff group, so A is block-diagonal over
-    // the groups, and every other body's block is M's: Ŵ is M^-1 there (set up
-    // once, never written) and each group's block of A is inverted on its own.
-    const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
-    bool ok = true;
-    for (size_t g = 0; g < groups.size() && ok; ++g) {
-      const std::vector<int>& bodies = groups[g];
-      Eigen::MatrixXd& Ag = ws.group_A[g];
-      const int k = static_cast<int>(bodies.size());
-      for (int bc = 0; bc < k; ++bc)
-        for (int br = 0; br < k; ++br) {
-          const int r0 = 6 * bodies[br], c0 = 6 * bodies[bc];
-          for (int c = 0; c < 6; ++c)
-            for (int r = 0; r < 6; ++r) {
-              double base = 0;
-              if (br == bc) {
-                const Body& body = m.bodies[bodies[br]];
-                if (r < 3 && c < 3) base = r == c ? body.mass : 0.0;
-                else if (r >= 3 && c >= 3) base = body.inertia(r - 3, c - 3);
-              }
-              Ag(6 * br + r, 6 * bc + c) = base - h * theta * ws.C(r0 + r, c0 + c) -
-                                           h * h * theta * theta * ws.K(r0 + r, c0 + c);
-            }
+}
+
+// Ag = M - h theta C - h^2 theta^2 K over the bodies of one stiff group, in the
+// group's own numbering (6 rows and columns per body, in the order of `bodies`).
+void fillGroupIterationMatrix(const Model& m, double h, double theta, const std::vector<int>& bodies,
+                              const StepWorkspace& ws, Eigen::MatrixXd& Ag) {
+  const int k = static_cast<int>(bodies.size());
+  for (int bc = 0; bc < k; ++bc)
+    for (int br = 0; br < k; ++br) {
+      const int r0 = 6 * bodies[br], c0 = 6 * bodies[bc];
+      for (int c = 0; c < 6; ++c)
+        for (int r = 0; r < 6; ++r) {
+          double base = 0;
+          if (br == bc) {
+            const Body& body = m.bodies[bodies[br]];
+            if (r < 3 && c < 3) base = r == c ? body.mass : 0.0;
+            else if (r >= 3 && c >= 3) base = body.inertia(r - 3, c - 3);
+          }
+          Ag(6 * br + r, 6 * bc + c) = base - h * theta * ws.C(r0 + r, c0 + c) -
+                                       h * h * theta * theta * ws.K(r0 + r, c0 + c);
         }
-      Eigen::MatrixXd& inv = ws.group_inverse[g];
-      if (!groupInverse(Ag, ws.group_factor_inverse[g], ws.group_dofs, inv)) {
-        ok = false;
-        break;
-      }
-      for (int bc = 0; bc < k; ++bc)
-        for (int br = 0; br < k; ++br)
-          ws.iteration_inverse.block<6, 6>(6 * bodies[br], 6 * bodies[bc]) =
-              inv.block<6, 6>(6 * br, 6 * bc);
     }
-    if (!ok) {
-      ws.iteration_inverse = ws.mass_inverse;
-      st.iteration_matrix_fallback = true;
-    }
-    return;
+}
+
+// Without the planar projection: C and K couple only the bodies of a stiff group,
+// so A is block-diagonal over the groups, and every other body's block is M's: Ŵ
+// is M^-1 there (set up once, never written) and each group's block of A is
+// inverted on its own. False when a group's block is not positive definite.
+bool invertStiffGroups(const Model& m, double h, double theta, StepWorkspace& ws) {
+  const std::vector<std::vector<int>>& groups = ws.facts.stiff_groups;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::vector<int>& bodies = groups[g];
+    Eigen::MatrixXd& Ag = ws.group_A[g];
+    fillGroupIterationMatrix(m, h, theta, bodies, ws, Ag);
+    Eigen::MatrixXd& inv = ws.group_inverse[g];
+    if (!groupInverse(Ag, ws.group_factor_inverse[g], ws.group_dofs, inv)) return false;
+    const int k = static_cast<int>(bodies.size());
+    for (int bc = 0; bc < k; ++bc)
+      for (int br = 0; br < k; ++br)
+        ws.iteration_inverse.block<6, 6>(6 * bodies[br], 6 * bodies[bc]) =
+            inv.block<6, 6>(6 * br, 6 * bc);
   }
+  return true;
+}
+
+// With the planar projection the whole of A is built and inverted on the basis
+// of the in-plane motions. False when it is not positive definite.
+bool invertPlanarIterationMatrix(const Model& m, double h, double theta, StepWorkspace& ws) {
+  const int n = ws.n;
   for (int i = 0; i < ws.nbodies; ++i) {
     ws.A.block<6, 6>(6 * i, 6 * i).setZero();
     ws.A.block<3, 3>(6 * i, 6 * i) = m.bodies[i].mass * Mat3::Identity();
@@ -175,12 +170,32 @@ void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats
       const double base = diag_block ? ws.A(r, c) : 0.0;
       ws.A(r, c) = base - h * theta * ws.C(r, c) - h * h * theta * theta * ws.K(r, c);
     }
-  if (!reducedInverse(ws.A, ws, ws.iteration_inverse)) {
+  return reducedInverse(ws.A, ws, ws.iteration_inverse);
+}
+
+}  // namespace
+
+void buildIterationMatrix(const Model& m, double h, StepWorkspace& ws, StepStats& st) {
+  const double theta = m.settings.theta;
+  ws.rhs.noalias() = h * ws.F;
+  if (!ws.facts.stiff) return;
+  addStiffnessImpulse(h, theta, ws);
+  const bool inverted = ws.facts.planar ? invertPlanarIterationMatrix(m, h, theta, ws)
+                                        : invertStiffGroups(m, h, theta, ws);
+  if (!inverted) {
     // Not positive definite (a spring stiffer than the step can carry implicitly):
     // the step treats the elements explicitly.
     ws.iteration_inverse = ws.mass_inverse;
     st.iteration_matrix_fallback = true;
   }
+}
+
+void addIterationInverseTimes(const StepWorkspace& ws, const Eigen::VectorXd& x,
+                              Eigen::VectorXd& y) {
+  // Ŵ couples a body only with those of its stiff group: its 6 x 6 blocks there.
+  for (int b = 0; b < ws.nbodies; ++b)
+    for (int c : ws.facts.coupled[b])
+      y.segment<6>(6 * c).noalias() += ws.iteration_inverse.block<6, 6>(6 * c, 6 * b) * x.segment<6>(6 * b);
 }
 
 }  // namespace nscd

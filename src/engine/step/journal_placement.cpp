@@ -82,14 +82,9 @@ Vec3 currentOffset(const Model& m, const State& s, int c) {
   return bodyPointWorld(s, cj.journal_body, cj.journal_center) - bodyPointWorld(s, cj.bearing_body, cj.bearing_center);
 }
 
-}  // namespace
-
-// Each Gauss-Newton step is the smallest displacement (metric M) that meets the
-// placed joints' rows exactly, and among those the one that best keeps the other
-// joints' journals where they were (least squares in the null space of the hard
-// rows): a link that no offset concerns follows the links it is jointed to.
-void placeJournals(const Model& m, State& s) {
-  const bool planar = m.settings.planar == PlanarMode::XY;
+// The placed joints first, aimed at their offsets; then the others, aimed at where
+// the tree placement put them.
+PlacementRows placementRows(const Model& m, const State& s, bool planar) {
   PlacementRows rows;
   rows.per = planar ? 2 : 6;
   for (int pass = 0; pass < 2; ++pass)
@@ -100,57 +95,92 @@ void placeJournals(const Model& m, State& s) {
       }
   const int placed = static_cast<int>(std::count_if(m.clearance_joints.begin(), m.clearance_joints.end(),
                                                     [](const ClearanceJoint& cj) { return cj.has_initial_offset; }));
-  if (placed == 0) return;
   rows.hard = rows.per * placed;
-  const std::vector<int> dofs = planar ? std::vector<int>{0, 1, 5} : std::vector<int>{0, 1, 2, 3, 4, 5};
+  return rows;
+}
+
+// dq = S y with S = M^-1/2: the minimum-norm y is the smallest displacement in the
+// mass metric (a heavy body moves less). One entry per body and moved DOF.
+Eigen::VectorXd massMetricScale(const Model& m, const State& s, const std::vector<int>& dofs) {
   const int nb = static_cast<int>(s.bodies.size());
   const int nd = static_cast<int>(dofs.size());
-  const int n = nb * nd;
-  // dq = S y with S = M^-1/2: the minimum-norm y is the smallest displacement in the
-  // mass metric (a heavy body moves less).
-  Eigen::VectorXd scale(n);
+  Eigen::VectorXd scale(nb * nd);
   for (int b = 0; b < nb; ++b) {
     const Mat3 R = s.bodies[b].q.toRotationMatrix();
     const Mat3 Iw = R * m.bodies[b].inertia * R.transpose();
     for (int k = 0; k < nd; ++k)
       scale[b * nd + k] = std::sqrt(dofs[k] < 3 ? 1.0 / m.bodies[b].mass : 1.0 / Iw(dofs[k] - 3, dofs[k] - 3));
   }
-  Eigen::VectorXd r, rp, rm;
+  return scale;
+}
+
+// J = d(residual)/dy, by central differences: the rank decisions need clean columns.
+void placementJacobian(const Model& m, const State& s, const PlacementRows& rows, bool planar,
+                       const std::vector<int>& dofs, const Eigen::VectorXd& scale, int residual_rows,
+                       Eigen::MatrixXd& J) {
+  const int nb = static_cast<int>(s.bodies.size());
+  const int nd = static_cast<int>(dofs.size());
+  Eigen::VectorXd rp, rm;
+  J.resize(residual_rows, nb * nd);
+  for (int b = 0; b < nb; ++b)
+    for (int k = 0; k < nd; ++k) {
+      State sp = s, sm = s;
+      displace(sp, b, dofs[k], kProbe);
+      displace(sm, b, dofs[k], -kProbe);
+      rows.residual(m, sp, planar, rp);
+      rows.residual(m, sm, planar, rm);
+      J.col(b * nd + k) = (rp - rm) / (2 * kProbe) * scale[b * nd + k];
+    }
+}
+
+// One Gauss-Newton step y: the minimum-norm solution of the hard rows, corrected
+// within their null space towards the soft rows' least squares.
+Eigen::VectorXd placementStep(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, int hard) {
+  const int n = static_cast<int>(J.cols());
+  const int soft = static_cast<int>(r.size()) - hard;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J.topRows(hard), Eigen::ComputeFullV | Eigen::ComputeThinU);
+  svd.setThreshold(kRankThreshold);
+  Eigen::VectorXd y = -svd.solve(r.head(hard));
+  const int rank = static_cast<int>(svd.rank());
+  if (soft > 0 && rank < n) {
+    const Eigen::MatrixXd N = svd.matrixV().rightCols(n - rank);
+    const Eigen::MatrixXd C = J.bottomRows(soft) * N;
+    const Eigen::VectorXd rs = r.tail(soft) + J.bottomRows(soft) * y;
+    // Minimum-norm least squares: directions the soft rows do not see (a link
+    // turning about its only joint) stay put. The cut is absolute (against the hard
+    // rows' scale): a soft row that barely sees a direction must not drive it.
+    Eigen::JacobiSVD<Eigen::MatrixXd> soft_svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const double cut = kRankThreshold * svd.singularValues()(0);
+    if (soft_svd.singularValues().size() > 0 && soft_svd.singularValues()(0) > cut) {
+      soft_svd.setThreshold(cut / soft_svd.singularValues()(0));
+      y -= N * soft_svd.solve(rs);
+    }
+  }
+  return y;
+}
+
+}  // namespace
+
+// Each Gauss-Newton step is the smallest displacement (metric M) that meets the
+// placed joints' rows exactly, and among those the one that best keeps the other
+// joints' journals where they were (least squares in the null space of the hard
+// rows): a link that no offset concerns follows the links it is jointed to.
+void placeJournals(const Model& m, State& s) {
+  const bool planar = m.settings.planar == PlanarMode::XY;
+  const PlacementRows rows = placementRows(m, s, planar);
+  if (rows.hard == 0) return;  // no joint has an initial offset
+  const std::vector<int> dofs = planar ? std::vector<int>{0, 1, 5} : std::vector<int>{0, 1, 2, 3, 4, 5};
+  const int nb = static_cast<int>(s.bodies.size());
+  const int nd = static_cast<int>(dofs.size());
+  const Eigen::VectorXd scale = massMetricScale(m, s, dofs);
+  Eigen::VectorXd r;
   Eigen::MatrixXd J;
   double err = 0;
   for (int it = 0; it < kPlacementIterations; ++it) {
     rows.residual(m, s, planar, r);
     err = r.head(rows.hard).lpNorm<Eigen::Infinity>();
-    J.resize(r.size(), n);
-    for (int b = 0; b < nb; ++b)
-      for (int k = 0; k < nd; ++k) {  // central differences: the rank decisions need clean columns
-        State sp = s, sm = s;
-        displace(sp, b, dofs[k], kProbe);
-        displace(sm, b, dofs[k], -kProbe);
-        rows.residual(m, sp, planar, rp);
-        rows.residual(m, sm, planar, rm);
-        J.col(b * nd + k) = (rp - rm) / (2 * kProbe) * scale[b * nd + k];
-      }
-    const int soft = static_cast<int>(r.size()) - rows.hard;
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(J.topRows(rows.hard), Eigen::ComputeFullV | Eigen::ComputeThinU);
-    svd.setThreshold(kRankThreshold);
-    Eigen::VectorXd y = -svd.solve(r.head(rows.hard));
-    const int rank = static_cast<int>(svd.rank());
-    if (soft > 0 && rank < n) {
-      const Eigen::MatrixXd N = svd.matrixV().rightCols(n - rank);
-      const Eigen::MatrixXd C = J.bottomRows(soft) * N;
-      const Eigen::VectorXd rs = r.tail(soft) + J.bottomRows(soft) * y;
-      // Minimum-norm least squares: directions the soft rows do not see (a link
-      // turning about its only joint) stay put. The cut is absolute (against the hard
-      // rows' scale): a soft row that barely sees a direction must not drive it.
-      Eigen::JacobiSVD<Eigen::MatrixXd> soft_svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
-      const double cut = kRankThreshold * svd.singularValues()(0);
-      if (soft_svd.singularValues().size() > 0 && soft_svd.singularValues()(0) > cut) {
-        soft_svd.setThreshold(cut / soft_svd.singularValues()(0));
-        y -= N * soft_svd.solve(rs);
-      }
-    }
-    const Eigen::VectorXd dq = scale.cwiseProduct(y);
+    placementJacobian(m, s, rows, planar, dofs, scale, static_cast<int>(r.size()), J);
+    const Eigen::VectorXd dq = scale.cwiseProduct(placementStep(J, r, rows.hard));
     if (err < kPlacementTolerance && dq.lpNorm<Eigen::Infinity>() < kStepTolerance) return;
     for (int b = 0; b < nb; ++b)
       for (int k = 0; k < nd; ++k) displace(s, b, dofs[k], dq[b * nd + k]);

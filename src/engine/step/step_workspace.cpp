@@ -75,13 +75,9 @@ void findStiffGroups(const Model& m, ModelFacts& f) {
     for (int c : f.coupled[i]) f.coupled_mask[i] |= std::uint64_t{1} << c;
 }
 
-}  // namespace
-
-void initStepWorkspace(const Model& m, StepWorkspace& ws) {
-  ModelFacts& f = ws.facts;
-  ws.nbodies = static_cast<int>(m.bodies.size());
-  ws.n = 6 * ws.nbodies;
-  const int n = ws.n;
+// The facts of the model the stages read: row and slot counts, stiff groups,
+// which bodies are prescribed, whether the rows depend on the poses only.
+void collectModelFacts(const Model& m, ModelFacts& f) {
   f.bilateral_rows = bilateralRowCount(m, f.joint_row_base, f.actuator_row_base);
   f.contact_slots = static_cast<int>(m.contacts.size()) * kMaxPointsPerPair +
                     static_cast<int>(m.clearance_joints.size()) * kMaxClearancePoints;
@@ -101,6 +97,13 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   }
   f.rows_follow_poses = f.contact_slots == 0;
   for (const Actuator& ac : m.actuators) f.rows_follow_poses = f.rows_follow_poses && ac.type != ActuatorType::Prescribed;
+}
+
+// Every buffer of the step at its largest size: n = 6 per body, up to max_rows
+// constraint rows (at least one, so that no buffer is empty).
+void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
+  const ModelFacts& f = ws.facts;
+  const int n = ws.n;
   ws.max_rows = f.bilateral_rows + 3 * f.contact_slots;
   const int mr = std::max(ws.max_rows, 1);
   ws.F = Eigen::VectorXd::Zero(n);
@@ -137,9 +140,13 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.problem.reserve(mr);
   ws.rates.assign(m.actuators.size(), 0.0);
   ws.zero_rates.assign(m.actuators.size(), 0.0);
+}
 
-  // Allowed velocity directions: all, or the x-y plane motions (3 per body).
-  const bool planar = f.planar;
+// Allowed velocity directions: all, or the x-y plane motions (3 per body); and
+// the buffers of the reduced (basis-projected) solves.
+void buildVelocityBasis(const Model& m, StepWorkspace& ws) {
+  const int n = ws.n;
+  const bool planar = ws.facts.planar;
   ws.basis = Eigen::MatrixXd::Zero(n, planar ? 3 * ws.nbodies : n);
   for (int i = 0; i < ws.nbodies; ++i) {
     if (!planar) {
@@ -155,7 +162,12 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.AB = Eigen::MatrixXd::Zero(n, ws.basis.cols());
   ws.red = Eigen::MatrixXd::Zero(ws.basis.cols(), ws.basis.cols());
   ws.BT = Eigen::MatrixXd::Zero(ws.basis.cols(), n);
-  // Constant mass matrix and its (planar-projected) inverse.
+}
+
+// Constant mass matrix and its (planar-projected) inverse, which is also the
+// iteration matrix's inverse until the stiff elements change it; and the blocks
+// of the stiff groups' own iteration matrices.
+void buildMassMatrix(const Model& m, StepWorkspace& ws) {
   for (int i = 0; i < ws.nbodies; ++i) {
     ws.A.block<3, 3>(6 * i, 6 * i) = m.bodies[i].mass * Mat3::Identity();
     ws.A.block<3, 3>(6 * i + 3, 6 * i + 3) = m.bodies[i].inertia;
@@ -166,13 +178,24 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   ws.group_A.clear();
   ws.group_inverse.clear();
   ws.group_factor_inverse.clear();
-  for (const std::vector<int>& g : f.stiff_groups) {
+  for (const std::vector<int>& g : ws.facts.stiff_groups) {
     const int k = 6 * static_cast<int>(g.size());
     ws.group_A.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_inverse.push_back(Eigen::MatrixXd::Identity(k, k));
     ws.group_factor_inverse.push_back(Eigen::MatrixXd::Zero(k, k));
     if (static_cast<int>(ws.group_dofs.size()) < k) ws.group_dofs.resize(k);
   }
+}
+
+}  // namespace
+
+void initStepWorkspace(const Model& m, StepWorkspace& ws) {
+  ws.nbodies = static_cast<int>(m.bodies.size());
+  ws.n = 6 * ws.nbodies;
+  collectModelFacts(m, ws.facts);
+  sizeStepBuffers(m, ws);
+  buildVelocityBasis(m, ws);
+  buildMassMatrix(m, ws);
 }
 
 void clearConstraintRows(StepWorkspace& ws) {
