@@ -67,6 +67,12 @@ void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
   }
 }
 
+void appendRevoluteErrors(const Joint& j, const JointPlacement& p, ConstraintBlock& blk, int& r) {
+  const Vec3 axis_b = p.b.q * j.axis_b;
+  for (int i = 0; i < 3; ++i) blk.error[r++ - blk.row] = p.dp.dot(Vec3::Unit(i));
+  for (int i = 1; i < 3; ++i) blk.error[r++ - blk.row] = axis_b.dot(p.fa.e[i]);
+}
+
 // Twist angle of the child about the joint axis, from the URDF zero, in (-pi, pi].
 double revoluteAngle(const Joint& j, const BodyState& a, const BodyState& b) {
   Quat dev = (a.q.conjugate() * b.q) * j.rel_rot_zero.conjugate();
