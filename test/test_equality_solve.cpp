@@ -126,9 +126,9 @@ TEST(LdltKernel, FactorsSolvesAndDropsDependentRows) {
     MatrixXd A, G;
     VectorXd rhs;
     randomMechanism(rng, 12, rank, A, rhs, &G);
-    std::vector<int> perm(12);
+    std::vector<int> perm(12), scratch(12);
     MatrixXd F = A;
-    EXPECT_EQ(pivotedLdlt(F.data(), 12, 12, 1e-13 * A.diagonal().maxCoeff(), perm.data()), rank);
+    EXPECT_EQ(pivotedLdlt(F.data(), 12, 12, 1e-13 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), rank);
     MatrixXd Ap(12, 12);
     for (int i = 0; i < 12; ++i)
       for (int j = 0; j < 12; ++j) Ap(i, j) = A(perm[i], perm[j]);
@@ -144,11 +144,11 @@ TEST(LdltKernel, FactorsSolvesAndDropsDependentRows) {
   G.row(3) = G.row(1);
   G(3, 0) += 1e-7 * G.row(1).norm();
   A = G * G.transpose();
-  std::vector<int> perm(6);
+  std::vector<int> perm(6), scratch(6);
   MatrixXd F = A;
-  EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-16 * A.diagonal().maxCoeff(), perm.data()), 6);
+  EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-16 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), 6);
   F = A;
-  EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-12 * A.diagonal().maxCoeff(), perm.data()), 5);
+  EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-12 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), 5);
 }
 
 // Full rank, rows in blocks of 1 to 6: the direct solve meets the tolerance

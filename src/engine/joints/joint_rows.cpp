@@ -104,7 +104,7 @@ double jointVelocity(const Model& m, const State& s, int joint) {
 }
 
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
-                         StepWorkspace& ws) {
+                         StepWorkspace& ws, bool jacobian) {
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const Joint& j = m.joints[ji];
     if (j.clearance >= 0) continue;  // replaced by unilateral contacts
@@ -117,7 +117,10 @@ void appendBilateralRows(const Model& m, const State& s, const std::vector<doubl
     blk.row = ws.rows;
     int r = ws.rows;
     switch (j.type) {
-      case JointType::Revolute: appendRevoluteRows(j, s, p, blk, r, ws.G); break;
+      case JointType::Revolute:
+        if (jacobian) appendRevoluteRows(j, s, p, blk, r, ws.G);
+        else appendRevoluteErrors(j, p, blk, r);
+        break;
       case JointType::Prismatic: appendPrismaticRows(j, s, p, blk, r, ws.G); break;
       case JointType::Fixed: appendFixedRows(j, s, p, blk, r, ws.G); break;
     }

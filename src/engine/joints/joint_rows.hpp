@@ -50,6 +50,8 @@ void appendOrientationLockRows(const Joint& j, const State& s, const JointPlacem
                                ConstraintBlock& blk, int& r, Eigen::MatrixXd& G);
 void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
                         ConstraintBlock& blk, int& r, Eigen::MatrixXd& G);
+// The revolute rows' errors alone (the same as appendRevoluteRows gives), G untouched.
+void appendRevoluteErrors(const Joint& j, const JointPlacement& p, ConstraintBlock& blk, int& r);
 void appendPrismaticRows(const Joint& j, const State& s, const JointPlacement& p,
                          ConstraintBlock& blk, int& r, Eigen::MatrixXd& G);
 void appendFixedRows(const Joint& j, const State& s, const JointPlacement& p,

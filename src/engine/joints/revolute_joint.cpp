@@ -6,16 +6,71 @@
 
 namespace nscd {
 
+namespace {
+
+// One row's two 6-column pieces written into G (column-major, leading dimension
+// ld) at the bodies' columns (null: the ground), as putRow writes them: body B's
+// piece set to [lin_b, R_b^T ang_b], body A's added to the cleared row, hence +0.0
+// (+0 + x is x, but -0 comes out +0, as putRow's += makes it).
+inline void writeRow(double* gb, double* ga, Eigen::Index ld, const Vec3& lin_b, const Vec3& ang_b,
+                     const Vec3& lin_a, const Vec3& ang_a) {
+  if (gb)
+    for (int k = 0; k < 3; ++k) {
+      gb[k * ld] = lin_b[k];
+      gb[(k + 3) * ld] = ang_b[k];
+    }
+  if (ga)
+    for (int k = 0; k < 3; ++k) {
+      ga[k * ld] = 0.0 + lin_a[k];
+      ga[(k + 3) * ld] = 0.0 + ang_a[k];
+    }
+}
+
+}  // namespace
+
 void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
                         ConstraintBlock& blk, int& r, Eigen::MatrixXd& G) {
-  appendPointRows(j, s, p, blk, r, G);
   const Vec3 axis_b = p.b.q * j.axis_b;
-  for (int i = 1; i < 3; ++i) {
+  if (j.body_a == j.body_b) {  // both pieces on one body: putRow adds them up
+    appendPointRows(j, s, p, blk, r, G);
+    for (int i = 1; i < 3; ++i) {
+      const Vec3 c = axis_b.cross(p.fa.e[i]);
+      putRow(G, r, s, j.body_a, j.body_b, Vec3::Zero(), c, Vec3::Zero(), -c);
+      blk.error[r - blk.row] = axis_b.dot(p.fa.e[i]);
+      ++r;
+    }
+    return;
+  }
+  // The same rows as appendPointRows and putRow write, the same arithmetic
+  // (bit for bit), with the bodies' conjugate rotations and lever arms formed
+  // once and the row written in place.
+  const Eigen::Index ld = G.outerStride();
+  const Quat qa_t = p.a.q.conjugate(), qb_t = p.b.q.conjugate();
+  const Vec3 rb = p.pb - p.b.x, ra = p.pa - p.a.x;
+  double* gb = j.body_b != kGround ? &G(r, 6 * j.body_b) : nullptr;
+  double* ga = j.body_a != kGround ? &G(r, 6 * j.body_a) : nullptr;
+  for (int i = 0; i < 3; ++i) {  // the anchors coincide
+    const Vec3 d = Vec3::Unit(i);
+    writeRow(gb, ga, ld, d, qb_t * rb.cross(d), -d, qa_t * (-(ra.cross(d))));
+    blk.error[r - blk.row] = p.dp.dot(d);
+    ++r;
+    if (gb) ++gb;
+    if (ga) ++ga;
+  }
+  for (int i = 1; i < 3; ++i) {  // the child's axis on the parent's
     const Vec3 c = axis_b.cross(p.fa.e[i]);
-    putRow(G, r, s, j.body_a, j.body_b, Vec3::Zero(), c, Vec3::Zero(), -c);
+    writeRow(gb, ga, ld, Vec3::Zero(), qb_t * c, Vec3::Zero(), qa_t * (-c));
     blk.error[r - blk.row] = axis_b.dot(p.fa.e[i]);
     ++r;
+    if (gb) ++gb;
+    if (ga) ++ga;
   }
+}
+
+void appendRevoluteErrors(const Joint& j, const JointPlacement& p, ConstraintBlock& blk, int& r) {
+  const Vec3 axis_b = p.b.q * j.axis_b;
+  for (int i = 0; i < 3; ++i) blk.error[r++ - blk.row] = p.dp.dot(Vec3::Unit(i));
+  for (int i = 1; i < 3; ++i) blk.error[r++ - blk.row] = axis_b.dot(p.fa.e[i]);
 }
 
 // Twist angle of the child about the joint axis, from the URDF zero, in (-pi, pi].

@@ -73,7 +73,7 @@ void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
 
 }  // namespace
 
-int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm) {
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
   for (int i = 0; i < n; ++i) perm[i] = i;
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   for (int k = 0; k < n; ++k) {
@@ -94,16 +94,29 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm) {
       std::swap(perm[k], perm[p]);
     }
     // Trailing update A22 -= v v^T / d (v: column k below the pivot), lower
-    // part; the columns are distinct, hence __restrict.
+    // part, over v's nonzero entries only (W of joints is sparse: a joint's rows
+    // meet only those of joints on its bodies). A skipped update would subtract
+    // an exact +-0 (s is finite for a finite A), which changes no entry but the
+    // sign of a -0; a difference is -0 only for -0 - (+0), so where A holds no
+    // -0 (the step's W: its sums start at +0) no entry ever is one and the
+    // factor is the dense loop's bit for bit. The columns are distinct, hence
+    // __restrict.
     double* __restrict ck = &a(0, k);
+    int nnz = 0;
+    for (int i = k + 1; i < n; ++i)
+      if (ck[i] != 0) nonzero[nnz++] = i;
     const double inv = 1 / ck[k];
-    for (int j = k + 1; j < n; ++j) {
+    for (int t = 0; t < nnz; ++t) {
+      const int j = nonzero[t];
       const double s = ck[j] * inv;
       if (s == 0) continue;
       double* __restrict cj = &a(0, j);
-      for (int i = j; i < n; ++i) cj[i] -= ck[i] * s;
+      for (int u = t; u < nnz; ++u) {
+        const int i = nonzero[u];
+        cj[i] -= ck[i] * s;
+      }
     }
-    for (int i = k + 1; i < n; ++i) ck[i] *= inv;
+    for (int t = 0; t < nnz; ++t) ck[nonzero[t]] *= inv;
   }
   return n;
 }

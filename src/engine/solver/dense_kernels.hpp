@@ -21,8 +21,9 @@ void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* p
 // diagonal, D on it, perm[k] = original index of pivot k. Each pivot is the
 // largest remaining diagonal; the first one at most dropTol stops it (the rows
 // left depend on those before them: every entry of what is left is at most
-// dropTol), and their D and L are set to 0. Returns the rank.
-int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm);
+// dropTol), and their D and L are set to 0. Returns the rank. nonzero: n
+// scratch.
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero);
 
 // x = A^+ rhs from that factor, the basic solution: dependent rows get 0. rhs
 // in, x out (both in original order); tmp: n scratch.

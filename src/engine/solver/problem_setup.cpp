@@ -30,7 +30,7 @@ void growEqualityBuffers(SolverBuffers& buf, int ne) {
   buf.maxEq = ne;
   buf.eqL.resize(ne, ne);
   buf.eqRhs.resize(2 * ne);
-  buf.eqPerm.resize(ne);
+  buf.eqPerm.resize(2 * ne);  // the pivoting order, then pivotedLdlt's scratch
   buf.eqScale.resize(ne);
 }
 
@@ -120,7 +120,7 @@ void prepareEqualityProblem(SolveProblem& pr, double maxDiag) {
   double* s = buf.eqScale.data();
   for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W(buf.eqRows[a], buf.eqRows[a]));
   copyScaledEqualities(pr, buf);
-  pivotedLdlt(buf.eqL.data(), int(buf.eqL.rows()), ne, kEqScaledDrop, buf.eqPerm.data());
+  pivotedLdlt(buf.eqL.data(), int(buf.eqL.rows()), ne, kEqScaledDrop, buf.eqPerm.data(), buf.eqPerm.data() + ne);
   pr.bnorm = pr.b.head(pr.m).norm();
   pr.localTol = std::max(1e-14, 1e-2 * pr.tolerance);
 }

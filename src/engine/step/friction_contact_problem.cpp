@@ -13,44 +13,68 @@ namespace nscd {
 
 namespace {
 
-// b = G v_free, the local free velocities of the rows.
-void localFreeVelocities(StepWorkspace& ws) {
-  const auto G = ws.G.topRows(ws.rows);
+// b = G v_free, the local free velocities of the rows, and a bilateral row's whole
+// b (its target, an ideal joint's workless average) in the same pass. Returns
+// false where it took the dense product (a non-finite v_free): the bilateral
+// terms are then still to add (setBilateralBlock).
+bool localFreeVelocities(double joint_average, StepWorkspace& ws) {
   if ((ws.vfree.array() * 0.0).sum() != 0) {  // an entry not finite (friction_contact_solver.cpp)
-    ws.b.head(ws.rows).noalias() = G * ws.vfree;
-    return;
+    ws.b.head(ws.rows).noalias() = ws.G.topRows(ws.rows) * ws.vfree;
+    return false;
   }
   // b = G v_free over each row's nonzero columns only (its block's bodies, in column
   // order): the sum Eigen's gemv forms, less its exact +-0 terms (G is zero outside
   // those columns, clearConstraintRows), which change no partial sum that is not
   // zero; a zero sum comes out +0 both ways (c * 1 + 0, as gemv adds it to the
   // zeroed b). A non-finite v_free (0 * inf) takes the dense product (above).
+  // A joint's G_i v_k (the workless average) over the same columns, from the first
+  // product on: Eigen's dot of the whole row, left to right from its first product,
+  // less the same +-0 terms; where it is zero its sign may differ, but it is then
+  // added to a b_i that is nonzero or +0 (c * 1 + 0 - 0), which it leaves as it is
+  // both ways. (v_k is finite where v_free is.)
   for (const ConstraintBlock& blk : ws.blocks) {
     int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
     if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
       std::swap(bodies[0], bodies[1]);
+    const bool bilateral = blk.kind == BlockKind::Bilateral;
+    const bool average = bilateral && blk.joint >= 0 && joint_average > 0;
     for (int k = 0; k < blk.size; ++k) {
       const int i = blk.row + k;
-      double c = 0;
+      double c = 0, ck = 0;
+      bool first = true;
       for (int body : bodies) {
         if (body == kGround) continue;
-        for (int j = 6 * body; j < 6 * body + 6; ++j) c += ws.G(i, j) * ws.vfree[j];
+        for (int j = 6 * body; j < 6 * body + 6; ++j) {
+          const double g = ws.G(i, j);
+          c += g * ws.vfree[j];
+          if (average) {
+            ck = first ? g * ws.vk[j] : ck + g * ws.vk[j];
+            first = false;
+          }
+        }
       }
       ws.b[i] = c * 1.0 + 0.0;
+      if (!bilateral) continue;
+      ws.b[i] -= blk.target[k];
+      if (average) ws.b[i] += joint_average * ck;
     }
   }
+  return true;
 }
 
-// A bilateral block: its rheonomic target, the workless average of an ideal joint
-// (joint_average > 0), and warm its last step's impulses.
-void setBilateralBlock(const State& s, const ConstraintBlock& blk, double joint_average, bool warm,
-                       StepWorkspace& ws) {
-  const auto G = ws.G.topRows(ws.rows);
-  for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
-  // Workless joints: theta G v_{k+1} + (1 - theta) G v_k = 0 (see JointWork).
-  if (blk.joint >= 0 && joint_average > 0)
-    for (int k = 0; k < blk.size; ++k)
-      ws.b[blk.row + k] += joint_average * G.row(blk.row + k).dot(ws.vk);
+// A bilateral block: its rheonomic target and the workless average of an ideal
+// joint (joint_average > 0) where localFreeVelocities did not add them, and warm
+// its last step's impulses.
+void setBilateralBlock(const State& s, const ConstraintBlock& blk, double joint_average,
+                       bool b_done, bool warm, StepWorkspace& ws) {
+  if (!b_done) {
+    const auto G = ws.G.topRows(ws.rows);
+    for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] -= blk.target[k];
+    // Workless joints: theta G v_{k+1} + (1 - theta) G v_k = 0 (see JointWork).
+    if (blk.joint >= 0 && joint_average > 0)
+      for (int k = 0; k < blk.size; ++k)
+        ws.b[blk.row + k] += joint_average * G.row(blk.row + k).dot(ws.vk);
+  }
   const int base = blk.joint >= 0 ? ws.facts.joint_row_base[blk.joint]
                                   : ws.facts.actuator_row_base[blk.actuator];
   if (warm)
@@ -96,12 +120,12 @@ void setContactBlock(const Model& m, const State& s, const ConstraintBlock& blk,
 
 void buildFrictionContactProblem(const Model& m, const State& s, double h, int kept,
                                  StepWorkspace& ws, StepStats& st) {
-  localFreeVelocities(ws);
-  ws.problem.clear();
-  st.active_contacts = 0;
   const double theta = m.settings.theta;
   const double joint_average =
       m.settings.joint_work == JointWork::None ? (1 - theta) / theta : 0.0;
+  const bool bilateral_b_done = localFreeVelocities(joint_average, ws);
+  ws.problem.clear();
+  st.active_contacts = 0;
   for (const ConstraintBlock& blk : ws.blocks) {
     ProblemBlock pb;
     pb.kind = blk.kind;
@@ -112,7 +136,7 @@ void buildFrictionContactProblem(const Model& m, const State& s, double h, int k
     // Rows below `kept` start from the current ws.P (a re-solve), the others warm.
     const bool warm = blk.row >= kept;
     if (blk.kind == BlockKind::Bilateral) {
-      setBilateralBlock(s, blk, joint_average, warm, ws);
+      setBilateralBlock(s, blk, joint_average, bilateral_b_done, warm, ws);
       continue;
     }
     ++st.active_contacts;

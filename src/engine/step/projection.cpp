@@ -25,12 +25,15 @@ constexpr double kLeastDistanceGrowth = 10;
 
 // The rows of the position-level problem at the state: bilateral rows and a
 // normal row per contact candidate. `ring_hint` starts the ring searches.
+// jacobian false (a model without contact sources): the bilateral rows'
+// errors only, where appendBilateralRows can skip G (a check whose rows no
+// pass uses); such rows are not keyed.
 void gatherPositionRows(const Model& m, const State& s, CandidateMode mode, double extra_margin,
-                        double* ring_hint, StepWorkspace& ws) {
+                        double* ring_hint, StepWorkspace& ws, bool jacobian = true) {
   clearConstraintRows(ws);
   // Prescribed rates do not matter at the position level.
-  appendBilateralRows(m, s, ws.zero_rates, ws);
-  keyRowsOnPoses(s, ws);  // the next step's rows, if the bodies stay here
+  appendBilateralRows(m, s, ws.zero_rates, ws, jacobian);
+  if (jacobian) keyRowsOnPoses(s, ws);  // the next step's rows, if the bodies stay here
   if (!hasContactSources(ws)) return;
   findContactCandidates(m, s, 0.0, mode, extra_margin, ring_hint, ws);
   activateContacts(m, s, 0.0, mode, ws);
@@ -92,7 +95,8 @@ bool leastDistanceCorrection(StepWorkspace& ws) {
 // first pass of a step whose operator may be reused (reuse), the velocity
 // stage's factor and Y instead, where the solver still holds it. True if
 // solved (a reused factor always is).
-bool solvePass(const State& s, StepWorkspace& ws, bool reuse, const SolverOptions& opt) {
+// jacobian false (rows gathered without G): false unless the factor is reused.
+bool solvePass(const State& s, StepWorkspace& ws, bool reuse, bool jacobian, const SolverOptions& opt) {
   const int r = ws.rows;
   ws.problem.clear();
   for (ConstraintBlock& blk : ws.blocks) {
@@ -109,6 +113,7 @@ bool solvePass(const State& s, StepWorkspace& ws, bool reuse, const SolverOption
   }
   ws.projection_reused_factor = reuse && ws.solver.solveEqualitiesAgain(ws.b.head(r), ws.P.head(r));
   if (ws.projection_reused_factor) return true;
+  if (!jacobian) return false;  // the caller gathers G and comes back
   assembleDelassus(ws.mass_inverse, true, ws, 0, r);  // M^-1: one block per body
   ws.P.head(r).setZero();
   return ws.solver.solve(ws.W.topLeftCorner(r, r), ws.b.head(r), ws.problem, opt, ws.P.head(r)).converged;
@@ -184,11 +189,17 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
   bool rows_current = false;  // ws holds the rows of the state as it is
   for (int pass = 0;; ++pass) {
     ws.check_hint = s.ring_hint;  // same size: no allocation
-    if (!rows_current) gatherPositionRows(m, s, mode, extra, hint, ws);
+    // The first check before a pass on the velocity stage's operator needs the
+    // rows' errors only (reuse: no contact sources); G is gathered where it
+    // turns out to be needed after all (the next step's rows, or a pass on its
+    // own operator).
+    const bool jacobian = !(reuse && pass == 0);
+    if (!rows_current) gatherPositionRows(m, s, mode, extra, hint, ws, jacobian);
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
     if (violation <= tol || pass >= max_passes) {
+      if (!jacobian) gatherPositionRows(m, s, mode, extra, hint, ws);
       // The last check leaves the ring hints as it found them: the next step's
       // search starts where this one did, and may take its points (exact).
       s.ring_hint = ws.check_hint;
@@ -200,7 +211,11 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
       extra = 2 * violation;
       gatherPositionRows(m, s, mode, extra, hint, ws);
     }
-    const bool solved = solvePass(s, ws, reuse && pass == 0, opt);
+    bool solved = solvePass(s, ws, reuse && pass == 0, jacobian, opt);
+    if (!solved && !jacobian) {  // the factor was not there to reuse
+      gatherPositionRows(m, s, mode, extra, hint, ws);
+      solved = solvePass(s, ws, false, true, opt);
+    }
     ws.dq.noalias() = ws.Y.leftCols(ws.rows) * ws.P.head(ws.rows);
     if (!solved) replaceUnsolvedPass(ws, st);
     if (!ws.dq.allFinite()) return pass;

@@ -65,8 +65,11 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // ---- 2a. bilateral rows (joint_rows.cpp, one file per joint kind): ideal joints
 // and prescribed actuators, with their position errors and rheonomic targets.
 // rates[i]: commanded rate of actuator i (prescribed).
+// jacobian false: the rows' errors only where a joint kind can skip its G rows
+// (revolute joints: their G rows stay as clearConstraintRows left them, zero),
+// for a check of the violation whose rows are not used.
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
-                         StepWorkspace& ws);
+                         StepWorkspace& ws, bool jacobian = true);
 // Continuous joint coordinate at the state (State::joint_position as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);
