@@ -15,6 +15,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from machine import cpu  # noqa: E402
+
 PEN_TOL = 0.01
 GAIN_TOL = 1e-9
 
@@ -28,16 +30,6 @@ def jline(path):
         if line.startswith("{"):
             return json.loads(line)
     return None
-
-
-def cpu():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def git_rev(repo):
