@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # How many solves each stage of the solver's schedule finishes, and how many steps
 # take each rescue (docs/solver.md), over the corpus: the 16 C-60 scenarios of
-# scripts/c60_solver_bench.sh (rest, trip, bench, handle x paper, ideal x dt 1e-5,
-# 1e-6) and the stress suite's seeds 1-3.
+# scripts/c60_scenarios.sh (rest, trip, bench, handle x paper, ideal) at dt 1e-5 and
+# 1e-6, and the stress suite's seeds 1-3.
 #   bench/solver_stages.sh [--quick] [--dump STAGE,...] [OUT]     (default OUT build/solver_stages)
-# --quick: dt 1e-5 and seed 1 only (~1 min; the whole corpus ~10 min on 2 cores).
+# --quick: dt 1e-5 and seed 1 only (~1 min; the whole corpus ~3.5 min of CPU, one run
+# after the other).
 # --dump: also write the problems those stages finished, OUT/dump/RUN/ (the input of
 # bench/solver_stage_needs.py; the deep stages of the whole corpus take ~3 GB).
 # Writes OUT/RUN.json (each run's summary line) and prints the table of counts.
@@ -23,26 +24,19 @@ done
 out=${1:-$repo/build/solver_stages}
 mkdir -p "$out"
 NSCD_RUN=$bin/nscd_run source "$repo/scripts/c60_env.sh"
-probe="probe=0:0,0.0007:0,0.0207:0.004"
-handle="handle=0:0,0.004:0,0.014:1.2,0.020:1.2,0.030:0,0.040:0"
+source "$repo/scripts/c60_scenarios.sh"
 dump() {  # the dump options for run $1
   [ -n "$stages" ] || return 0
   mkdir -p "$out/dump/$1"
   echo --dump-problems "$out/dump/$1" --dump-when "stage=$stages"
 }
 for dt in $dts; do
-  for model in paper ideal; do
-    sfx=""; [ $model = ideal ] && sfx="_ideal"
-    for sc in rest trip bench handle; do
-      case $sc in
-        rest) args=("$repo/urdf/c60$sfx.urdf" --duration 0.1) ;;
-        trip) args=("$repo/urdf/c60$sfx.urdf" --duration 0.0207 --command "$probe") ;;
-        bench) args=("$repo/urdf/c60_bench$sfx.urdf" --duration 0.054 --command "$C60_TABLE") ;;
-        handle) args=("$repo/urdf/c60$sfx.urdf" --duration 0.040 --command "$handle") ;;
-      esac
+  for model in $C60_MODELS; do
+    for sc in $C60_SCENARIOS; do
+      c60_scenario_args "$sc" "$model"
       tag=c60_${sc}_${model}_$dt
       # shellcheck disable=SC2046
-      "$bin/nscd_run" "${args[@]}" --dt "$dt" --quiet $(dump "$tag") 2>/dev/null | tail -n 1 > "$out/$tag.json"
+      "$bin/nscd_run" "${c60_args[@]}" --dt "$dt" --quiet $(dump "$tag") 2>/dev/null | tail -n 1 > "$out/$tag.json"
     done
   done
 done

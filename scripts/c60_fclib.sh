@@ -15,6 +15,7 @@
 # 4. writes OUT_DIR/fclib.csv and the tables OUT_DIR/fclib.md.
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+made_by="${OPENBLAS_NUM_THREADS:+OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS }scripts/c60_fclib.sh $*" started=$(date +%s) load_start=$(cut -d' ' -f1 /proc/loadavg)
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 ws=${NSCD_WS:-$repo/.build/ws}
 bin=$ws/devel/lib/nscd_sim
@@ -62,5 +63,6 @@ for p in "$out"/problems/*.hdf5; do
     rm -f "$out/one.csv"
   fi
 done
-/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
+/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" --made-by "$made_by" \
+  --started "$started" --load-start "$load_start" > "$out/fclib.md"
 echo "written: $out/fclib.csv $out/fclib.md"

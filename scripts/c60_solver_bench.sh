@@ -3,9 +3,7 @@
 # unconverged steps, iterations (mean / max), the largest residual, the fallback
 # steps (frictionless re-solve, energy cap) and the wall time.
 #   scripts/c60_solver_bench.sh [--quick]     (--quick: dt 1e-5 only)
-# Scenarios: rest 100 ms; trip (probe at 0.2 m/s from 0.7 ms, 20.7 ms); bench (the
-# table schedule, 54 ms); handle (ON -> towards OFF and back, 40 ms). Models:
-# paper (urdf/c60.urdf, c60_bench.urdf) and ideal (c60_ideal.urdf, c60_bench_ideal.urdf).
+# The scenarios and models: scripts/c60_scenarios.sh.
 # Wall times are of this machine, now: compare them within one run.
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -14,22 +12,15 @@ ws=${NSCD_WS:-$repo/.build/ws}
 run=$ws/devel/lib/nscd_sim/nscd_run
 [ -x "$run" ] || { echo "no $run: run scripts/build.sh" >&2; exit 1; }
 source "$repo/scripts/c60_env.sh"
+source "$repo/scripts/c60_scenarios.sh"
 dts="1e-5 1e-6"
 [ "${1:-}" = "--quick" ] && dts="1e-5"
-probe="probe=0:0,0.0007:0,0.0207:0.004"
-handle="handle=0:0,0.004:0,0.014:1.2,0.020:1.2,0.030:0,0.040:0"
 printf "%-7s %-6s %-6s %7s %7s %6s %9s %5s %5s %8s\n" scenario model dt unconv it_mean it_max res_max fb_fl fb_cap wall_s
 for dt in $dts; do
-  for model in paper ideal; do
-    sfx=""; [ $model = ideal ] && sfx="_ideal"
-    for sc in rest trip bench handle; do
-      case $sc in
-        rest) args=("$repo/urdf/c60$sfx.urdf" --duration 0.1) ;;
-        trip) args=("$repo/urdf/c60$sfx.urdf" --duration 0.0207 --command "$probe") ;;
-        bench) args=("$repo/urdf/c60_bench$sfx.urdf" --duration 0.054 --command "$C60_TABLE") ;;
-        handle) args=("$repo/urdf/c60$sfx.urdf" --duration 0.040 --command "$handle") ;;
-      esac
-      json=$("$run" "${args[@]}" --dt "$dt" --quiet 2>/dev/null | tail -n 1) || true
+  for model in $C60_MODELS; do
+    for sc in $C60_SCENARIOS; do
+      c60_scenario_args "$sc" "$model"
+      json=$("$run" "${c60_args[@]}" --dt "$dt" --quiet 2>/dev/null | tail -n 1) || true
       /usr/bin/python3 -c "
 import json, sys
 d = json.loads(sys.argv[1])

@@ -8,6 +8,7 @@
 # Writes OUT_DIR/fclib.csv and OUT_DIR/fclib.md; default OUT_DIR: build/fclib_compare.
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+made_by="${OPENBLAS_NUM_THREADS:+OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS }scripts/fclib_compare.sh $*" started=$(date +%s) load_start=$(cut -d' ' -f1 /proc/loadavg)
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 ws=${NSCD_WS:-$repo/.build/ws}
 out=${1:-$repo/build/fclib_compare}
@@ -32,5 +33,6 @@ if [ "${1:-}" = "--regenerate" ]; then
 fi
 # Siconos's Newton solvers report failed LU factorisations on stderr: keep them apart.
 "$exe" --csv "$out/fclib.csv" "$@" "${problems[@]}" 2> "$out/siconos_stderr.log" | tee "$out/fclib.txt" || true
-/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" > "$out/fclib.md"
+/usr/bin/python3 "$repo/scripts/analysis/fclib_table.py" "$out/fclib.csv" --made-by "$made_by" \
+  --started "$started" --load-start "$load_start" > "$out/fclib.md"
 echo "written: $out/fclib.csv $out/fclib.md"

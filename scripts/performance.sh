@@ -9,7 +9,7 @@
 #   sweep   a sharded sweep merged and checked against the unsharded one
 #   speed   the C-60 trip (dt 1e-5, 1e-6) and 100 ms at rest, 3 times each, wall and CPU time
 #   bench   the skip benchmarks (Google Benchmark)
-#   scripts/performance.sh            full run (about 25 min on 2 idle cores)
+#   scripts/performance.sh            full run (28 min 28 s on 2 cores at a load of 9-15, 2026-11-27)
 #   PERF_QUICK=1 scripts/performance.sh   a few minutes: coarser grids, fewer runs, no C-60 dt 1e-6
 #   PERF_SKIP="wp stress ..."            skip stages (their previous results in $OUT are reused)
 #   PERF_C60=0                           leave the C-60 trip and bench out of the work-precision set

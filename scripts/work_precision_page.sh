@@ -6,7 +6,7 @@
 #   scenes  nscd_work_precision per scene, one run at a time (--jobs 1: wall times
 #           compared within a table), the load before and after each
 #   crank   scripts/analysis/slider_crank_study.py
-#   scripts/work_precision_page.sh                 both (about 30 min on 2 shared cores)
+#   scripts/work_precision_page.sh                 both (11 min 44 s at 7612adb on 2 shared cores)
 #   WP_QUICK=1 scripts/work_precision_page.sh      coarser grids, shorter references
 #   WP_SKIP="crank" scripts/work_precision_page.sh skip stages (their raw results in $OUT are reused)
 #   WP_SCENES="double_pendulum fourbar" ...        only these scenes of the scenes stage

@@ -15,6 +15,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from machine import cpu  # noqa: E402
+
 PEN_TOL = 0.01
 GAIN_TOL = 1e-9
 
@@ -28,16 +30,6 @@ def jline(path):
         if line.startswith("{"):
             return json.loads(line)
     return None
-
-
-def cpu():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def git_rev(repo):
@@ -64,20 +56,25 @@ def elapsed_section(out, elapsed):
     (performance.sh writes ran_STAGE.txt, 'COMMIT|DATE|LOAD', when a stage runs)."""
     text = "%d min %d s" % divmod(elapsed, 60)
     skipped = os.environ.get("PERF_SKIP", "").split()
-    runs = {}  # (commit, load) -> [(stage, date)]
+    runs = {}  # commit -> [(stage, date, load)]
     for st in STAGES:
         if st not in skipped:
             continue
         ran = read_text(os.path.join(out, "ran_%s.txt" % st))
         commit, date, load = (ran.strip().split("|") + ["?"])[:3] if ran else ("?", "an unknown date", "?")
-        runs.setdefault((commit, load), []).append((st, date))
+        runs.setdefault(commit, []).append((st, date, load))
     if runs:
         parts = []
-        for (commit, load), stages in runs.items():
-            dates = sorted(d for _, d in stages)
+        for commit, stages in runs.items():
+            dates = sorted(d for _, d, _ in stages)
             when = dates[0] if dates[0] == dates[-1] else "%s to %s" % (dates[0], dates[-1][11:])
-            parts.append("%s at commit `%s` (%s, load %s)" % (", ".join(st for st, _ in stages), commit, when, load))
-        text += " for the stages it ran; the raw results of the others come from earlier runs: " + "; ".join(parts)
+            loads = sorted({ld for _, _, ld in stages}, key=lambda x: float(x) if x.replace(".", "", 1).isdigit() else 0)
+            load = loads[0] if len(loads) == 1 else "%s-%s as each stage ended" % (loads[0], loads[-1])
+            parts.append("%s at commit `%s` (%s, load %s)" % (", ".join(st for st, _, _ in stages), commit, when, load))
+        if all(st in skipped for st in STAGES):
+            text += " to make the page again from the raw results of earlier runs: " + "; ".join(parts)
+        else:
+            text += " for the stages it ran; the raw results of the others come from earlier runs: " + "; ".join(parts)
     return text
 
 

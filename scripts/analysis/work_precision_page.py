@@ -11,7 +11,8 @@ import argparse
 import csv
 import math
 import os
-import platform
+
+from machine import cpu
 
 # The work-precision set, in the page's order: (name, what the error is).
 SCENES = [
@@ -76,11 +77,13 @@ def wall_at(f, key, err):
     return b["wall_s"] * (err / b[key]) ** slope, "~"
 
 
-def info(out, name):
+def read_info(path):
+    """A file of "KEY VALUE" lines as a dict ({} if there is none): the records
+    scripts/work_precision_page.sh writes, wp_SCENE.info (a scene's command, load before
+    and after) and ran_STAGE.info (when a stage ran: date, commit)."""
     d = {}
-    p = os.path.join(out, "wp_%s.info" % name)
-    if os.path.exists(p):
-        for line in open(p):
+    if os.path.exists(path):
+        for line in open(path):
             k, _, v = line.rstrip("\n").partition(" ")
             d[k] = v
     return d
@@ -96,7 +99,7 @@ def scene_section(out, name, metric):
     fixed = [r for r in rows if not r["reference"] and not r["adaptive"]]
     adaptive = [r for r in rows if not r["reference"] and r["adaptive"]]
     ff = front(fixed, key)
-    i = info(out, name)
+    i = read_info(os.path.join(out, "wp_%s.info" % name))
     s = []
     s.append("**%s** — `%s`\n\n" % (name, i.get("command", "?")))
     if ref:
@@ -149,33 +152,11 @@ def summary_row(name, metric, verdict):
     return "| %s | %s | %s |\n" % (name, ok, ", ".join(cells))
 
 
-def cpu():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
-
-
-def stage_info(out, stage):
-    """What scripts/work_precision_page.sh recorded when the stage ran (ran_STAGE.info:
-    date, commit, load), or {} if it has no record."""
-    d = {}
-    p = os.path.join(out, "ran_%s.info" % stage)
-    if os.path.exists(p):
-        for line in open(p):
-            k, _, v = line.rstrip("\n").partition(" ")
-            d[k] = v
-    return d
-
-
 def run_section(out):
     """When and at which commit the raw results were made, stage by stage."""
     parts = {}
     for stage in ("scenes", "crank"):
-        d = stage_info(out, stage)
+        d = read_info(os.path.join(out, "ran_%s.info" % stage))
         key = (d.get("date", "an unknown date"), d.get("commit", "unknown"))
         parts.setdefault(key, []).append(stage)
     if len(parts) == 1:
