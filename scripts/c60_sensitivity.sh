@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# C-60 sensitivity: the bench and the trip with ideal joints (x0), all clearances x0.2, x0.5,
+# C-60 sensitivity: the bench and the trip with ideal joints (x0), all clearances x0.1, x0.2, x0.5,
 # x1, x2 and all friction coefficients x0.5, x1.5. Scene variants are generated into out/ by
 # c60_scene.py; runs C60_JOBS (default 2) cases at a time; writes docs/c60_sensitivity.md with
 # the date and the commit. C60_CASES="name:cscale:fscale ..." runs a subset.
 #   scripts/c60_sensitivity.sh
 source "$(dirname "${BASH_SOURCE[0]}")/c60_env.sh"
-cases=${C60_CASES:-"c0:0:1 c02:0.2:1 c05:0.5:1 c1:1:1 c2:2:1 f05:1:0.5 f15:1:1.5"}
+cases=${C60_CASES:-"c0:0:1 c01:0.1:1 c02:0.2:1 c05:0.5:1 c1:1:1 c2:2:1 f05:1:0.5 f15:1:1.5"}
 run_case() {
   local name=$1 cs=$2 fs=$3
   $PY "$C60_REPO/scripts/c60_model/c60_scene.py" --out "$C60_OUT/c60_sens_$name.urdf" --clearance-scale $cs --friction-scale $fs

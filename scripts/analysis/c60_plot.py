@@ -17,7 +17,7 @@ import numpy as np
 # The CSV readers live in c60_csv (c60_trip_figures uses them too); the analyses that
 # import c60_plot still find load, yaw, polarisation, group_gap and JOINTS here.
 import c60_trip_figures
-from c60_csv import BODIES, JOINTS, first_time, group_gap, load, polarisation, yaw
+from c60_csv import BODIES, JOINTS, first_time, group_fn, group_gap, load, polarisation, yaw
 
 
 def plt_module():
@@ -49,7 +49,8 @@ def trip(d, png):
            'mean_push_force_N': f.get('force_mean_N'),
            'corner_takes_load_s': s('corner_ms'),
            'latch_release_s': s('release_ms'), 'c7_open_s': t_open,
-           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3), 'figures': f}
+           'c7_gap_end_mm': round(float(1e3 * gap[-1]), 3), 'figures': f,
+           'after_opening': after_opening(d, f)}
     k = None
     if f.get('force_peak_at_ms') is not None:
         k = int(np.argmin(np.abs(t - 1e-3 * f['force_peak_at_ms'])))
@@ -81,6 +82,36 @@ def trip(d, png):
         fig.tight_layout()
         fig.savefig(png, dpi=110)
     return res
+
+
+def after_opening(d, f):
+    """What the parts do after C7 opens (docs/c60.md, "After the opening"): the plate's
+    swing onto its stop C3 and its rebound, each turn from the published ON pose; C3's
+    largest one-sample force, when the plate comes to rest on it and its force over the
+    last 1 ms; the largest e/c_r of any joint over the run (above 1: a journal left its
+    bearing); the tripping bar's spin at the end and the probe's spin about its own
+    axis (world x) over the run."""
+    t = d['t']
+    if f.get('c7_open_ms') is None:
+        return None
+    plate = np.degrees(yaw(d, 'plate') - yaw(d, 'plate')[0])
+    k_max = int(np.argmax(plate))
+    c3_gap, c3_fn = group_gap(d, 'C3'), group_fn(d, 'C3')
+    hit = np.nonzero((c3_gap < c60_trip_figures.CLOSED) & (t > 1e-3 * f['c7_open_ms']))[0]
+    r = {'plate_turn_max_deg': round(float(plate[k_max]), 2), 'plate_turn_max_at_ms': round(1e3 * float(t[k_max]), 2),
+         'c3_first_closed_ms': round(1e3 * float(t[hit[0]]), 2) if len(hit) else None,
+         'c3_force_max_N': round(float(c3_fn.max()), 2)}
+    if len(hit):
+        after = t >= t[k_max]
+        r['plate_rebound_min_deg'] = round(float(plate[after].min()), 2)
+        open_ = np.nonzero(c3_gap >= c60_trip_figures.CLOSED)[0]
+        r['c3_closed_from_ms'] = round(1e3 * float(t[open_[-1] + 1]), 2) if len(open_) and open_[-1] + 1 < len(t) else None
+    last = t >= t[-1] - 1e-3
+    r['c3_force_last_ms_N'] = round(float(np.mean(c3_fn[last])), 2)
+    r['ecc_max'] = round(float(max(np.max(d[j + '.ecc']) for j in JOINTS if j + '.ecc' in d.dtype.names)), 4)
+    r['bar_wz_end_rad_s'] = round(float(d['trip_bar.wz'][-1]), 1)
+    r['probe_spin_max_rad_s'] = round(float(np.max(np.abs(d['probe.wx']))), 1)
+    return r
 
 
 # --------------------------------------------------------------------------- bench
@@ -222,8 +253,14 @@ def rest(d, png):
     settling = {b: {'yaw_deg': round(float(np.degrees(yaw(d, b)[k4] - yaw(d, b)[0])), 3),
                     'com_moved_um': round(float(1e6 * math.sqrt(sum((d[b + '.' + c][k4] - d[b + '.' + c][0]) ** 2
                                                                      for c in 'xyz'))), 1)} for b in BODIES}
+    # The springs and the handle servo at the end (the scene's signs: P2 a tension, P3 the
+    # moment on its second body, the moving contact).
+    loads = {'P1_handle_Nmm': round(1e3 * float(d['P1_handle.force'][-1]), 3),
+             'P2_plate_N': round(float(d['P2_plate.force'][-1]), 3),
+             'P3_contact_Nm': round(float(d['P3_contact.force'][-1]), 4),
+             'handle_servo_Nmm': round(1e3 * float(d['handle.effort'][-1]), 3)}
     return {'window_s': [float(t[i0]), float(t[-1])], 'settling_to_4ms': settling, 'drift': drift,
-            'forces_N': forces, 'gaps_um': gaps,
+            'forces_N': forces, 'gaps_um': gaps, 'loads_end': loads,
             'latched': bool(group_gap(d, 'C4')[-1] < 1e-6 and d['C7.gap'][-1] < 1e-6),
             'polarisation': polarisation(d, len(t) - 1)}
 

@@ -5,7 +5,8 @@ import json
 import os
 import sys
 
-CASES = [('c0', 'ideal joints (x0)', '0', '1'), ('c02', 'clearances x0.2', '0.2', '1'), ('c05', 'clearances x0.5', '0.5', '1'),
+CASES = [('c0', 'ideal joints (x0)', '0', '1'), ('c01', 'clearances x0.1', '0.1', '1'),
+         ('c02', 'clearances x0.2', '0.2', '1'), ('c05', 'clearances x0.5', '0.5', '1'),
          ('c1', 'nominal', '1', '1'),
          ('c2', 'clearances x2', '2', '1'), ('f05', 'friction x0.5', '1', '0.5'),
          ('f15', 'friction x1.5', '1', '1.5')]
@@ -34,21 +35,21 @@ def fmt(v, f='%.2f'):
 def main():
     out, doc = sys.argv[1], sys.argv[2]
     rows = []
-    noisy = {'c02'}  # bench force chatters: hysteresis is noise (see text)
     for key, label, cs, fs in CASES:
         b = load(os.path.join(out, 'sens_%s_bench.json' % key))
         t = load(os.path.join(out, 'sens_%s_trip.json' % key))
         rb = run_json(os.path.join(out, 'sens_%s_bench.run.json' % key))
         rt = run_json(os.path.join(out, 'sens_%s_trip.run.json' % key))
-        rows.append('| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
+        rows.append('| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |' % (
             label, cs, fs,
             fmt(b and b['equilibrium_force_N']),
-            fmt(b and b['hysteresis_mean_N'], '%.3f') + (' (noise)' if key in noisy else ''),
+            fmt(b and b['hysteresis_mean_N'], '%.3f'),
             fmt(t and t['peak_force_N']),
             fmt(t and t['probe_touch_s'] and 1e3 * t['probe_touch_s'], '%.2f'),
             fmt(t and t['corner_takes_load_s'] and 1e3 * t['corner_takes_load_s'], '%.2f'),
             fmt(t and t['latch_release_s'] and 1e3 * t['latch_release_s'], '%.2f'),
             fmt(t and t['c7_open_s'] and 1e3 * t['c7_open_s'], '%.2f'),
+            fmt(rb and rb['unconverged_steps'], '%d') + ' / ' + fmt(rt and rt['unconverged_steps'], '%d'),
             fmt(rb and rb['wall_s'], '%.0f') + ' / ' + fmt(rt and rt['wall_s'], '%.0f'),
             fmt(max((r['max_penetration'] for r in (rb, rt) if r), default=None), '%.2g')))
     made = 'Made by `scripts/c60_sensitivity.sh` (%s, commit %s), on a 2-core machine shared with other work.' % (
@@ -63,10 +64,8 @@ is kept in every case. Each case runs the bench (`scripts/c60_bench.sh`) and the
 subset.
 
 Clearance x0 is the model with ideal revolute joints for J1-J7 and S3 (`urdf/c60_ideal.urdf`,
-`--clearance-scale 0`): closed loops of bilateral rows. Scales between 0 and 0.2 are not in
-the table: with clearances of a few um the position projection cannot close the nearly rigid,
-over-constrained loop (docs/c60.md, "What did not work, and why"). At x0.2 the bench force still
-moves during the hold, so its hysteresis is marked as noise.
+`--clearance-scale 0`): closed loops of bilateral rows, with frictionless joints. x0.1 gives
+radial clearances of 4.5-8.5 um (S3 0.6 um).
 
 Definitions:
 
@@ -81,8 +80,8 @@ Definitions:
   after the release, with the probe starting at 0.7 ms;
 - wall times: this shared machine's, two cases at a time: not comparable with each other.
 
-| case | clearance scale | friction scale | equilibrium force [N] | hysteresis [N] | peak tripping force [N] | touch [ms] | corner takes the load [ms] | latch release [ms] | C7 opens [ms] | wall bench / trip [s] | max penetration [m] |
-|---|---|---|---|---|---|---|---|---|---|---|---|
+| case | clearance scale | friction scale | equilibrium force [N] | hysteresis [N] | peak tripping force [N] | touch [ms] | corner takes the load [ms] | latch release [ms] | C7 opens [ms] | unconverged steps bench / trip | wall bench / trip [s] | max penetration [m] |
+|---|---|---|---|---|---|---|---|---|---|---|---|---|
 ''' + '\n'.join(rows) + '\n'
     with open(doc, 'w') as f:
         f.write(text)
