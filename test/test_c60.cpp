@@ -201,7 +201,7 @@ TEST(C60, RestsLatchedWithoutDrift) {
 // Then C7 opens after the release and stays open. Throughout, every clearance joint
 // holds: no journal stands outside its bearing (e/c_r <= 1 + the projection tolerance;
 // the released hook's tip used to be reported deep in the concave wedge F1, and the
-// projection tore J6 apart as C7 opened: docs/c60.md engine issue 6).
+// projection tore J6 apart as C7 opened: docs/c60.md, "What did not work, and why").
 static void expectPublishedTripSequence(const std::string& scene, double duration, double settled, const std::string& tag) {
   Csv c;
   ASSERT_NO_FATAL_FAILURE(runToCsv(scene,
