@@ -7,7 +7,9 @@
 //   OUT/references.csv  each reference's self-check (its step against twice its step)
 // scripts/analysis/mujoco_compare.py turns them into tables.
 //
-// usage: nscd_mujoco_compare [--out DIR] [--quick] [--scenes a,b] [--min-seconds S]
+// usage: nscd_mujoco_compare [--out DIR] [--quick] [--scenes a,b] [--min-seconds S] [--adaptive-dt S]
+//        nscd_mujoco_compare --order-table [--scenes a,b]   (error at t = 1 s of adaptive steps of a
+//          fixed length H with every extrapolation level up to max_order K, for K = 2..6: the order)
 //        nscd_mujoco_compare --single SCENE METHOD SETTING --steps N   (one run, for callgrind)
 #include <cmath>
 #include <cstdio>
@@ -56,6 +58,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   RunOptions o;
   std::vector<std::string> single;
+  bool order_table = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -71,12 +74,14 @@ int main(int argc, char** argv) {
     else if (a == "--quick") quick = true;
     else if (a == "--min-seconds") o.min_seconds = std::atof(next().c_str());
     else if (a == "--steps") o.fixed_steps = std::atol(next().c_str());
+    else if (a == "--adaptive-dt") o.adaptive_dt = std::atof(next().c_str());
+    else if (a == "--order-table") order_table = true;
     else if (a == "--single") {
       single = {next(), next(), next()};
     } else {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--quick] [--scenes pendulum,double_pendulum,fourbar,ball] "
-                   "[--min-seconds S] [--source DIR]\n"
+                   "[--min-seconds S] [--source DIR] [--adaptive-dt S]\n"
                    "       %s --single SCENE METHOD SETTING --steps N\n",
                    argv[0], argv[0]);
       return 2;
@@ -100,6 +105,31 @@ int main(int argc, char** argv) {
       const size_t q = std::min(scene_list.find(',', p), scene_list.size());
       chosen.push_back(&sceneNamed(scene_list.substr(p, q - p)));
       p = q + 1;
+    }
+    if (order_table) {
+      // Markdown rows: scene, max_order, then the angle error (rad) at each H.
+      const std::vector<double> hs = {0.04, 0.02, 0.01, 0.005, 0.0025};
+      o.max_repetitions = 1;
+      std::printf("| scene | max_order |");
+      for (double H : hs) std::printf(" H %g |", H);
+      std::printf("\n|---|---|");
+      for (size_t i = 0; i < hs.size(); ++i) std::printf("---|");
+      std::printf("\n");
+      for (const SceneSpec* s : chosen) {
+        const EndState ref = referenceEnd(s->id, o.duration);
+        for (int K = 2; K <= 6; ++K) {
+          o.fixed_order = K;
+          std::printf("| %s | %d |", s->name, K);
+          for (double H : hs) {
+            const RunResult r = runNscd(src, *s, Method::NscdAdaptive, H, o);
+            if (r.error.empty()) std::printf(" %.3g |", compareEnd(r.end, ref).angle);
+            else std::printf(" %s |", r.error.c_str());
+          }
+          std::printf("\n");
+          std::fflush(stdout);
+        }
+      }
+      return 0;
     }
     FILE* runs = std::fopen((out + "/runs.csv").c_str(), "w");
     FILE* refs = std::fopen((out + "/references.csv").c_str(), "w");
