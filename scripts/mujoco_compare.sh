@@ -4,7 +4,8 @@
 # reference; MuJoCo's Euler and RK4 at several dt, ours fixed at several dt and
 # adaptive at several tolerances, in one process. Prints the tables of
 # docs/mujoco_comparison.md.
-#   scripts/mujoco_compare.sh [OUT_DIR] [--quick] [--instructions]
+#   scripts/mujoco_compare.sh [OUT_DIR] [--quick] [--instructions] [--adaptive-dt=S]
+# --adaptive-dt=S: the largest step of our adaptive runs (their dt; default 0.01).
 # --quick: a few runs per engine (seconds); --instructions: also the instructions of
 # one step at dt 1e-4 (valgrind's callgrind, 2000 steps inside nscd::Simulator::step()
 # and mj_step). Needs Debian's libmujoco-dev (sudo apt-get install libmujoco-dev) and a
@@ -17,11 +18,13 @@ ws=${NSCD_WS:-$repo/.build/ws}
 out=$repo/build/mujoco_compare
 quick=()
 instructions=0
+adaptive_dt=()
 for a in "$@"; do
   case $a in
+    --adaptive-dt=*) adaptive_dt=(--adaptive-dt "${a#*=}") ;;
     --quick) quick=(--quick) ;;
     --instructions) instructions=1 ;;
-    -*) echo "usage: $0 [OUT_DIR] [--quick] [--instructions]" >&2; exit 2 ;;
+    -*) echo "usage: $0 [OUT_DIR] [--quick] [--instructions] [--adaptive-dt=S]" >&2; exit 2 ;;
     *) out=$a ;;
   esac
 done
@@ -36,9 +39,10 @@ rm -f "$out/instructions.csv" "$out/instructions_to_target.csv"
   echo "commit $(git -C "$repo" rev-parse --short HEAD)$( [ -z "$(git -C "$repo" status --porcelain --untracked-files=no)" ] || echo ' (with uncommitted changes)')"
   echo "date $(date -u '+%Y-%m-%d %H:%M UTC')"
   echo "mujoco $(dpkg-query -W -f='${Version}' libmujoco-dev 2>/dev/null || echo unknown)"
+  echo "adaptive_dt ${adaptive_dt[1]:-0.01}"
   echo "load_start $(cut -d' ' -f1-3 /proc/loadavg)"
 } > "$out/load.txt"
-"$exe" --out "$out" "${quick[@]}"
+"$exe" --out "$out" "${quick[@]}" "${adaptive_dt[@]}"
 echo "load_end $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/load.txt"
 
 if [ "$instructions" = 1 ]; then
@@ -64,7 +68,7 @@ if [ "$instructions" = 1 ]; then
     esac
     cg=$out/callgrind.whole.$scene.$method
     valgrind --tool=callgrind --callgrind-out-file="$cg" --toggle-collect="$fn" \
-      "$exe" --single "$scene" "$method" "$setting" < /dev/null > /dev/null 2>&1
+      "$exe" --single "$scene" "$method" "$setting" "${adaptive_dt[@]}" < /dev/null > /dev/null 2>&1
     echo "$scene,$method,$setting,$(sed -n 's/^totals: *//p' "$cg")" >> "$out/instructions_to_target.csv"
   done
 fi

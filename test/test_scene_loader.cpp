@@ -799,7 +799,9 @@ TEST(Settings, ApplySettingEveryKey) {
   EXPECT_DOUBLE_EQ(s.atol, 1e-8);
   set("dt_min", "1e-10");
   EXPECT_DOUBLE_EQ(s.dt_min, 1e-10);
-  EXPECT_EQ(settingKeys().size(), 18u);
+  set("max_order", "3");
+  EXPECT_EQ(s.max_order, 3);
+  EXPECT_EQ(settingKeys().size(), 19u);
 }
 
 TEST(Settings, ApplySettingRefusesBadValues) {

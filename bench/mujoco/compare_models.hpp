@@ -67,6 +67,10 @@ struct RunOptions {
   double min_seconds = 0.2;    // repeat a run until this much stepping is timed
   int max_repetitions = 20;
   long fixed_steps = 0;        // > 0: this many fixed steps instead of the duration (callgrind)
+  // > 0: nscd_adaptive runs take steps of the fixed length `setting` with every level
+  // of the extrapolation up to max_order = fixed_order (dt_min = dt, a tolerance no
+  // step meets: each step kept at the floor): the order table (--order-table).
+  int fixed_order = 0;
 };
 
 // source_dir: the source tree holding urdf/, test/scenes/ and bench/mujoco/.

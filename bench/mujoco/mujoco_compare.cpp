@@ -7,7 +7,9 @@
 //   OUT/references.csv  each reference's self-check (its step against twice its step)
 // scripts/analysis/mujoco_compare.py turns them into tables.
 //
-// usage: nscd_mujoco_compare [--out DIR] [--quick] [--scenes a,b] [--min-seconds S]
+// usage: nscd_mujoco_compare [--out DIR] [--quick] [--scenes a,b] [--min-seconds S] [--adaptive-dt S]
+//        nscd_mujoco_compare --order-table [--scenes a,b]   (error at t = 1 s of adaptive steps of a
+//          fixed length H with every extrapolation level up to max_order K, for K = 2..6: the order)
 //        nscd_mujoco_compare --single SCENE METHOD SETTING --steps N   (one run, for callgrind)
 #include <cmath>
 #include <cstdio>
@@ -55,6 +57,7 @@ struct Options {
   bool quick = false;
   RunOptions run;
   std::vector<std::string> single;  // --single: scene, method, setting
+  bool order_table = false;         // --order-table: the measured order, a markdown table
 };
 
 // False after the usage line (an unknown option).
@@ -68,12 +71,14 @@ bool parseOptions(int argc, char** argv, Options& o) {
     else if (a == "--quick") o.quick = true;
     else if (a == "--min-seconds") o.run.min_seconds = std::atof(next().c_str());
     else if (a == "--steps") o.run.fixed_steps = std::atol(next().c_str());
+    else if (a == "--adaptive-dt") o.run.adaptive_dt = std::atof(next().c_str());
+    else if (a == "--order-table") o.order_table = true;
     else if (a == "--single") {
       o.single = {next(), next(), next()};
     } else {
       std::fprintf(stderr,
                    "usage: %s [--out DIR] [--quick] [--scenes pendulum,double_pendulum,fourbar,ball] "
-                   "[--min-seconds S] [--source DIR]\n"
+                   "[--min-seconds S] [--source DIR] [--adaptive-dt S]\n"
                    "       %s --single SCENE METHOD SETTING --steps N\n",
                    argv[0], argv[0]);
       return false;
@@ -125,6 +130,34 @@ void runScene(const SceneSpec& s, const std::vector<Grid>& gs, const Options& o,
     }
 }
 
+// The order each max_order reaches: adaptive steps of a fixed length H (dt = dt_min
+// = H, a tolerance no level meets), the angle error at the end against the
+// reference, as markdown rows: scene, max_order, then the error (rad) at each H.
+int printOrderTable(const std::vector<const SceneSpec*>& chosen, Options o) {
+  const std::vector<double> hs = {0.04, 0.02, 0.01, 0.005, 0.0025};
+  o.run.max_repetitions = 1;
+  std::printf("| scene | max_order |");
+  for (double H : hs) std::printf(" H %g |", H);
+  std::printf("\n|---|---|");
+  for (size_t i = 0; i < hs.size(); ++i) std::printf("---|");
+  std::printf("\n");
+  for (const SceneSpec* s : chosen) {
+    const EndState ref = referenceEnd(s->id, o.run.duration);
+    for (int K = 2; K <= 6; ++K) {
+      o.run.fixed_order = K;
+      std::printf("| %s | %d |", s->name, K);
+      for (double H : hs) {
+        const RunResult r = runNscd(o.src, *s, Method::NscdAdaptive, H, o.run);
+        if (r.error.empty()) std::printf(" %.3g |", compareEnd(r.end, ref).angle);
+        else std::printf(" %s |", r.error.c_str());
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +167,7 @@ int main(int argc, char** argv) {
     if (!o.single.empty()) return runSingle(o);
     std::vector<const SceneSpec*> chosen;
     for (const std::string& name : nscd_cli::splitCommas(o.scene_list)) chosen.push_back(&sceneNamed(name));
+    if (o.order_table) return printOrderTable(chosen, o);
     FILE* runs = std::fopen((o.out + "/runs.csv").c_str(), "w");
     FILE* refs = std::fopen((o.out + "/references.csv").c_str(), "w");
     if (!runs || !refs) {

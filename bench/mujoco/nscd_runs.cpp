@@ -42,7 +42,14 @@ RunResult runNscd(const std::string& source_dir, const SceneSpec& s, Method meth
   RunResult res;
   try {
     std::vector<nscd::SettingOverride> ov;
-    if (method == Method::NscdAdaptive) {
+    if (method == Method::NscdAdaptive && o.fixed_order > 0) {
+      ov = {{"step_control", "adaptive", "mujoco_compare"},
+            {"dt", num(setting), "mujoco_compare"},
+            {"dt_min", num(setting), "mujoco_compare"},
+            {"rtol", "1e-15", "mujoco_compare"},
+            {"atol", "1e-15", "mujoco_compare"},
+            {"max_order", std::to_string(o.fixed_order), "mujoco_compare"}};
+    } else if (method == Method::NscdAdaptive) {
       ov = {{"step_control", "adaptive", "mujoco_compare"},
             {"dt", num(o.adaptive_dt), "mujoco_compare"},
             {"rtol", num(setting), "mujoco_compare"},

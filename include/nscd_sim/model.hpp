@@ -246,6 +246,11 @@ struct Settings {
   // Adaptive steps: the floor of the step length, s; a step at the floor is kept
   // whatever its error (counted). 0: dt * 1e-6.
   double dt_min = 0;
+  // Adaptive steps: the highest order a step extrapolates to where no contact is
+  // closed and nothing nonsmooth happens in it (Aitken-Neville over paths of 2, 4,
+  // 6, ... 2 max_order substeps; docs/step_control.md). 2: the coarse and fine
+  // paths' Richardson combination only.
+  int max_order = 6;
 };
 
 struct Model {

@@ -179,6 +179,10 @@ const std::vector<SettingRule>& settingRules() {
          requireIn(key, x, 0, false, 0.1, false);
          st.dt_min = x;
        }},
+      {"max_order",
+       [](Settings& st, const std::string& key, const std::string& v) {
+         st.max_order = intValue(key, v, 2, 12);
+       }},
   };
   return rules;
 }

@@ -25,6 +25,8 @@ namespace {
 // where the scheme's error is O(h^3), and the extrapolation would multiply it
 // every step (measured: unstable). Two against four flip it alike.
 constexpr int kCoarseSubsteps = 2;
+// A rejected smooth step is retried at most this fraction of its length.
+constexpr double kRetryAtMost = 0.9;
 
 // The larger in magnitude (as step_halving.cpp: one substep's kinetic change stands for the step).
 double largerChange(double a, double b) { return std::abs(b) > std::abs(a) ? b : a; }
@@ -85,12 +87,32 @@ void keepForces(const StepOutputs& fine, const StepOutputs& coarse, double f, St
   for (size_t c = 0; c < out.cj_fn.size(); ++c) out.cj_fn[c] = take(fine.cj_fn[c], coarse.cj_fn[c]);
 }
 
+// The answer of a smooth step (its paths unprojected) onto the joints, as a fixed
+// step's projection (Simulator::advance) does, the potential energy it adds
+// taken back from the kinetic energy.
+void projectSmoothStep(const Model& m, StepWorkspace& ws, State& s, StepStats& st) {
+  const Settings& set = m.settings;
+  if (!set.projection) return;
+  const double pe_before = potentialEnergyOf(m, s).total();
+  double violation = 0;
+  st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
+                                          violation, st, false);
+  if (st.projection_passes > 0) st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before, s);
+  if (!ws.rows_keyed) clearConstraintRows(ws);
+}
+
 }  // namespace
 
 void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& state,
                       AdaptiveStepWorkspace& a) {
   a.start = state;
   a.coarse = state;
+  const int levels = std::max(2, m.settings.max_order);
+  a.row.assign(levels, state.bodies);
+  a.cur = state.bodies;
+  a.tmp = state.bodies;
+  a.errors.assign(levels + 1, 0.0);
+  initStepOutputs(m, a.level_out);
   a.end_command = state.commands;
   a.start_command = state.commands;
   initStepOutputs(m, a.coarse_out);
@@ -169,17 +191,67 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
                                           long& iterations) {
   AdaptiveStepWorkspace& a = *adaptive_;
   const Settings& set = model_.settings;
-  state_ = a.start;  // same sizes: no allocation
-  bool coarse_event = false, fine_event = false;
-  const StepStatus coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
-  a.coarse = state_;
-  a.coarse_out.stats = out_->stats;
-  state_ = a.start;
-  const StepStatus fine = takeAdaptivePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event, iterations);
-  event = coarse_event || fine_event;
-  error = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite
-              ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
-              : INFINITY;
+  StepStatus coarse = StepStatus::Ok, fine = StepStatus::Ok;
+  // The coarse path (kept in a.coarse) and the fine one (left in state_).
+  auto takePaths = [&]() {
+    bool coarse_event = false, fine_event = false;
+    state_ = a.start;  // same sizes: no allocation
+    coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
+    a.coarse = state_;
+    a.coarse_out.stats = out_->stats;
+    state_ = a.start;
+    fine = takeAdaptivePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event, iterations);
+    event = coarse_event || fine_event;
+    const bool finite = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite;
+    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
+                   : INFINITY;
+  };
+  a.order = 2;
+  a.tableau = false;
+  a.project_substeps = true;
+  // A step that starts with every contact open may be smooth: its paths are
+  // then taken without the projection, so that each is a smooth function of its
+  // substep length (a projection only where the drift passes a threshold is not),
+  // and extrapolated as far as the tolerance asks (max_order); its answer is
+  // projected once (stepAdaptive). If anything nonsmooth happens on any path,
+  // the coarse and fine paths are taken again with the projection, as below.
+  if (set.max_order > 2 && contactsOpen(a.slot_mu, a.start)) {
+    a.project_substeps = false;
+    takePaths();
+    StepStatus status = fine;
+    if (!event && error < INFINITY) {
+      a.tableau = true;
+      a.errors[2] = error;
+      if (error <= 1) {  // the paths' combination (stepAdaptive)
+        a.project_substeps = true;
+        return status;
+      }
+      addTableauLevel(0, a.coarse.bodies, a);
+      addTableauLevel(1, state_.bodies, a);
+      for (int j = 2; j < set.max_order && !event; ++j) {
+        state_ = a.start;
+        const StepStatus s = takeAdaptivePath(levelSubsteps(j), h, fraction, a.level_out, event, iterations);
+        if (s == StepStatus::NonFinite) event = true;
+        if (event) break;
+        if (s == StepStatus::NotConverged) status = s;
+        addTableauLevel(j, state_.bodies, a);
+        error = scaledBodiesDifference(a.row[j - 1], a.cur, set.atol, set.rtol, 1.0, a.rotation_length);
+        a.errors[j + 1] = error;
+        a.order = j + 1;
+        if (error <= 1) break;
+      }
+      if (!event) {
+        state_.bodies = a.cur;  // T_{k,k}, with the finest path's warm starts and hints
+        a.project_substeps = true;
+        return status;
+      }
+    }
+    // Not smooth after all (or the paths not finite): taken again as below.
+    a.project_substeps = true;
+    a.order = 2;
+    a.tableau = false;
+  }
+  takePaths();
   return fine;
 }
 
@@ -207,7 +279,8 @@ StepStatus Simulator::stepAdaptive() {
     status = attemptAdaptiveStep(h, h == h_plan ? 1.0 : h / h_plan, error, event, iterations);
     if (error <= 1 || h <= lim.h_min) break;
     ++rejected;
-    h = retryStepLength(lim, h, error);
+    h = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order, kRetryAtMost)
+                  : retryStepLength(lim, h, error);
   }
 
   StepStats& st = out_->stats;
@@ -220,13 +293,16 @@ StepStatus Simulator::stepAdaptive() {
   // step in: the fine path's answer extrapolated.
   const double f = event ? 0.0 : kRichardsonFactor;
   if (!event) {
-    richardsonExtrapolate(a.coarse, f, state_);
+    if (a.order == 2) richardsonExtrapolate(a.coarse, f, state_);  // else the tableau's answer is in state_
+    if (a.tableau) projectSmoothStep(m, *ws_, state_, st);
     trackJointPositions(m, state_);
   }
   keepForces(a.fine_out, a.coarse_out, f, *out_);
   st.extrapolated = !event;
   state_.t = h == h_plan && !std::isnan(end_plan) ? end_plan : t0 + h;
-  double next = nextStepLength(lim, h, error, a.start.step_error, rejected > 0);
+  double next = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order,
+                                                    rejected > 0 ? 1.0 : INFINITY)
+                          : nextStepLength(lim, h, error, a.start.step_error, rejected > 0);
   // A step cut short to end at a given time is no reason for the next to be short.
   if (rejected == 0 && h < proposal) next = std::max(next, proposal);
   state_.step_next = next;

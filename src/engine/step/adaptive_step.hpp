@@ -6,9 +6,15 @@
 // fine one by half that: the difference is the fine path's error). Where nothing
 // nonsmooth happened in the step, their Richardson combination is kept
 // (kRichardsonFactor), else the fine path's answer; a PI controller picks the
-// next length. Three files:
+// next length. Where every contact is open at the step's start (a mechanism of
+// ideal joints, a body in flight) and Settings::max_order > 2, the paths are
+// taken without the projection and, while the estimate is above the tolerance,
+// paths of 6, 8, ... substeps are added to an Aitken-Neville tableau (order k
+// with k paths); the order and the next length are chosen for the least work
+// per unit time (extrapolationStepLength), the answer projected once. Three files:
 //   step_doubling.cpp         the error norm, the contact modes, the extrapolation
-//   step_size_controller.cpp  the PI law, rejections and the floor
+//   step_size_controller.cpp  the PI law, the order and length of smooth steps,
+//                             rejections and the floor
 //   adaptive_step.cpp         Simulator::stepAdaptive and planStep
 #pragma once
 
@@ -27,6 +33,21 @@ struct AdaptiveStepWorkspace {
   StepOutputs coarse_out, fine_out;  // the paths' forces (averaged) and stats
   std::vector<double> slot_mu;       // friction coefficient of each warm-start slot
   std::vector<double> rotation_length;  // per body (m): rotationLength
+  // The extrapolation tableau of a smooth step (Settings::max_order > 2): row[k]
+  // the bodies of T_{j,k} for the last level j taken; cur and tmp scratch.
+  std::vector<std::vector<BodyState>> row;
+  std::vector<BodyState> cur, tmp;
+  StepOutputs level_out;  // the forces of the paths finer than the fine one (not kept)
+  // What the last attempt was: tableau (a smooth step with every contact open,
+  // the order chosen by extrapolationStepLength), the order of its answer (2:
+  // the coarse and fine paths' combination), and errors[k] the error estimate of
+  // T_{k,k-1} against T_{k,k} for k = 2 .. order (errors[2]: the paths' difference).
+  bool tableau = false;
+  int order = 2;
+  std::vector<double> errors;
+  // False while the paths of a smooth step are taken: their substeps skip the
+  // projection (Simulator::advance), the step's answer is projected once.
+  bool project_substeps = true;
 };
 
 // Sizes the buffers for the model (`state`: the simulator's, for the sizes).
@@ -43,6 +64,8 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
 // Infinite if either state is not finite.
 double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
                              double velocity_weight, const std::vector<double>& rotation_length);
+double scaledBodiesDifference(const std::vector<BodyState>& a, const std::vector<BodyState>& b, double atol,
+                              double rtol, double velocity_weight, const std::vector<double>& rotation_length);
 // A body's length for its rotations: the farthest point, from its centre of mass,
 // of what it is attached by or touches (joint anchors, bearings with their length,
 // contact shapes, spring ends), and at least its radius of gyration
@@ -55,6 +78,8 @@ double rotationLength(const Model& m, int body);
 // impulse) in both, or closed in both and sticking in both, or sliding in both
 // the same way (tangential impulses not opposed).
 bool sameContactModes(const std::vector<double>& slot_mu, const State& a, const State& b);
+// True if every contact slot is open in s (inactive, or no normal impulse).
+bool contactsOpen(const std::vector<double>& slot_mu, const State& s);
 // True if the step's stats show a nonsmooth event or a rescue: an unsolved
 // problem, contacts closed by the answer, a halving, a plastic or frictionless fallback, scaled impulses.
 bool stepHadEvent(const StepStats& st);
@@ -69,6 +94,15 @@ constexpr double kRichardsonFactor = 1.0;
 // angular velocities linearly, orientations along the geodesic (the fine
 // orientation turned on by f times the rotation from the coarse one to it).
 void richardsonExtrapolate(const State& coarse, double f, State& fine);
+void extrapolateBodies(const std::vector<BodyState>& coarse, double f, std::vector<BodyState>& fine);
+// The substeps of level j (0-based) of the extrapolation: 2 (j + 1). Even
+// counts only (kCoarseSubsteps, adaptive_step.cpp).
+inline int levelSubsteps(int j) { return 2 * (j + 1); }
+// Adds level j (its bodies y) to the Aitken-Neville tableau of a scheme whose
+// error expands in powers of h (first order): T_{j,0} = y, T_{j,k+1} = T_{j,k} +
+// (T_{j,k} - T_{j-1,k}) / (n_j / n_{j-k-1} - 1). After it a.row[k] = T_{j,k} for
+// k <= j, and a.cur = T_{j,j}. Level 0 only sets a.row[0].
+void addTableauLevel(int j, const std::vector<BodyState>& y, AdaptiveStepWorkspace& a);
 
 // ---- step_size_controller.cpp
 // The PI controller of the step length (Gustafsson 1991; Hairer-Wanner II, IV.2)
@@ -85,5 +119,18 @@ double nextStepLength(const StepLengths& lim, double h, double error, double pre
                       bool after_rejection);
 // The length to try again after a step of length h rejected with error `error` (> 1).
 double retryStepLength(const StepLengths& lim, double h, double error);
+// Smooth steps with an extrapolation tableau (order and step control of
+// extrapolation codes, Hairer-Norsett-Wanner I, II.9; Deuflhard 1983): from
+// errors[k] (k = 2 .. order, the estimate of T_{k,k-1}, of local order k in h)
+// the length H_k each order would take next, and the work per unit time of each,
+// (the substeps of levels 0 .. k-1) / H_k. The next length is that of the
+// cheapest order; if that is the highest order taken and a higher one is
+// allowed (max_order) and the step was not rejected, the length the next order
+// would need for the same work per time (H_k A_{k+1} / A_k): the next step then
+// takes one level more if it needs it. at_most: a cap on the length in units of
+// h, and no step up in order (1 right after a rejection, 0.9 for the retry of a
+// rejected step; INFINITY: none).
+double extrapolationStepLength(const StepLengths& lim, double h, const std::vector<double>& errors, int order,
+                               int max_order, double at_most);
 
 }  // namespace nscd

@@ -83,10 +83,13 @@ void solveStepProblem(const Model& m, double h, const State& s, bool may_halve, 
 // (Left in, it drove the C-60's released hook to 1e4 rad/s: the ideal-joint
 // model went from 0.19 to 0.8 J in 2.5 ms, 0.18 J with the projection off.)
 // reuse: velocityFactorReusable, asked before the update.
-void projectStep(const Model& m, double h, bool reuse, State& s, StepWorkspace& ws, StepOutputs& out) {
+// project: false in the paths of a smooth adaptive step, which are projected once
+// at its end (adaptive_step.cpp: the threshold would break their smoothness in h).
+void projectStep(const Model& m, double h, bool reuse, bool project, State& s, StepWorkspace& ws,
+                 StepOutputs& out) {
   const Settings& set = m.settings;
   StepStats& st = out.stats;
-  if (!set.projection) {
+  if (!set.projection || !project) {
     // Measured when asked for (stats()): it costs a geometry pass, as much as
     // the contact search itself, and most callers never read it.
     out.penetration_pending = true;
@@ -243,7 +246,7 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   const bool reuse = velocityFactorReusable(h, ws);
   advanceState(m, h, ws, state_);
   // 6. projection, and the energy it must not add
-  projectStep(m, h, reuse, state_, ws, *out_);
+  projectStep(m, h, reuse, adaptive_->project_substeps, state_, ws, *out_);
   if (!ws.rows_keyed) clearConstraintRows(ws);
   trackJointPositions(m, state_);
   if (!stateFinite(ws, state_)) return StepStatus::NonFinite;

@@ -23,8 +23,8 @@ Mode slotMode(double mu, const State& s, size_t slot) {
 
 }  // namespace
 
-double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
-                             double velocity_weight, const std::vector<double>& rotation_length) {
+double scaledBodiesDifference(const std::vector<BodyState>& a, const std::vector<BodyState>& b, double atol,
+                              double rtol, double velocity_weight, const std::vector<double>& rotation_length) {
   double worst = 0;
   auto take = [&](double x, double y) {
     const double scaled = std::abs(x - y) / (atol + rtol * std::max(std::abs(x), std::abs(y)));
@@ -32,9 +32,9 @@ double scaledStateDifference(const State& a, const State& b, double atol, double
     worst = scaled <= worst ? worst : (std::isnan(scaled) ? INFINITY : scaled);
   };
   const double c = velocity_weight;
-  for (size_t i = 0; i < a.bodies.size(); ++i) {
-    const BodyState& p = a.bodies[i];
-    const BodyState& q = b.bodies[i];
+  for (size_t i = 0; i < a.size(); ++i) {
+    const BodyState& p = a[i];
+    const BodyState& q = b[i];
     const double r = rotation_length[i];
     const Vec3 wp = r * (p.q * p.w), wq = r * (q.q * q.w);
     for (int k = 0; k < 3; ++k) {
@@ -48,6 +48,11 @@ double scaledStateDifference(const State& a, const State& b, double atol, double
     worst = scaled <= worst ? worst : (std::isnan(scaled) ? INFINITY : scaled);
   }
   return worst;
+}
+
+double scaledStateDifference(const State& a, const State& b, double atol, double rtol,
+                             double velocity_weight, const std::vector<double>& rotation_length) {
+  return scaledBodiesDifference(a.bodies, b.bodies, atol, rtol, velocity_weight, rotation_length);
 }
 
 namespace {
@@ -105,22 +110,43 @@ bool sameContactModes(const std::vector<double>& slot_mu, const State& a, const 
   return true;
 }
 
+bool contactsOpen(const std::vector<double>& slot_mu, const State& s) {
+  for (size_t slot = 0; slot < slot_mu.size(); ++slot)
+    if (slotMode(slot_mu[slot], s, slot) != Mode::Open) return false;
+  return true;
+}
+
 bool stepHadEvent(const StepStats& st) {
   return !st.converged || st.late_contacts > 0 || st.substeps > 1 || st.plastic_fallback || st.plastic_retry ||
          st.longer_solve || st.frictionless_fallback || st.energy_capped ||
          st.iteration_matrix_fallback;
 }
 
-void richardsonExtrapolate(const State& coarse, double f, State& fine) {
-  for (size_t i = 0; i < fine.bodies.size(); ++i) {
-    const BodyState& c = coarse.bodies[i];
-    BodyState& b = fine.bodies[i];
+void extrapolateBodies(const std::vector<BodyState>& coarse, double f, std::vector<BodyState>& fine) {
+  for (size_t i = 0; i < fine.size(); ++i) {
+    const BodyState& c = coarse[i];
+    BodyState& b = fine[i];
     const Vec3 omega = b.q * b.w + f * (b.q * b.w - c.q * c.w);  // world frame
     b.x += f * (b.x - c.x);
     b.v += f * (b.v - c.v);
     b.q = (b.q * expMap(f * logMap(c.q.conjugate() * b.q))).normalized();
     b.w = b.q.conjugate() * omega;
   }
+}
+
+void richardsonExtrapolate(const State& coarse, double f, State& fine) {
+  extrapolateBodies(coarse.bodies, f, fine.bodies);
+}
+
+void addTableauLevel(int j, const std::vector<BodyState>& y, AdaptiveStepWorkspace& a) {
+  a.cur = y;  // same sizes: no allocation
+  for (int k = 0; k < j; ++k) {
+    const double f = 1.0 / (static_cast<double>(levelSubsteps(j)) / levelSubsteps(j - k - 1) - 1.0);
+    a.tmp = a.cur;                       // T_{j,k}
+    extrapolateBodies(a.row[k], f, a.cur);  // T_{j,k+1}
+    std::swap(a.row[k], a.tmp);          // row[k] <- T_{j,k}: no allocation
+  }
+  a.row[j] = a.cur;
 }
 
 }  // namespace nscd
