@@ -237,7 +237,7 @@ def geometry_points():
 
 def build(bench=False, cscale=1.0, fscale=1.0, p3_rest=None, dt=1e-5, variant='main',
           radial_scale=1.0, axial_scale=1.0, radial_mm=None, journal_seed=None, spring_pairs=False):
-    """variant 'authors': the authors' model (docs/c60.md, "main model vs authors' model"):
+    """variant 'authors': the authors' model (docs/c60.md, "Main model vs the authors' model"):
     their clearances and joint mu, no axial contacts, the code's P3 preload (not the
     calibrated one) and their springs' loads as the plugin applies them, the J1
     top/bottom rings, the seat F4 and fillet F3 as their code uses them, and no handle

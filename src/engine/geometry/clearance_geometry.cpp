@@ -139,8 +139,8 @@ struct BumpTable {
 const BumpTable kBumpDirs;
 
 // Facet directions of clearanceRingFacets, +-15, +-30, +-60 deg from the ring
-// point's (+-15 deg since 2026-11-22 afternoon: with only +-30 and +-60, a journal
-// cocked in its bearing, the two ring ends touching opposite sides, saw its contact
+// point's (the +-15 deg pair because with only +-30 and +-60 a journal cocked in
+// its bearing, the two ring ends touching opposite sides, saw its contact
 // directions swing by ~15 deg between passes and the passes stall: stress case
 // 455). Their cos and sin made once, as BumpTable's (laundered through a volatile).
 struct FacetTable {
