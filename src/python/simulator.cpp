@@ -619,6 +619,7 @@ void bindSimulator(py::module_& m) {
                                d["rtol"] = st.rtol;
                                d["atol"] = st.atol;
                                d["dt_min"] = st.dt_min;
+                               d["max_order"] = st.max_order;
                                return d;
                              },
                              "a few of the settings in force")

@@ -217,3 +217,13 @@ def test_one_call_at_a_time_and_the_gil_is_released(nscd_sim):
     worker.join()
     assert ticks > 10 and refused > 0
     assert len(result['record']) == 1 + 200 // 50
+
+
+def test_settings_report_the_step_control_in_force(nscd_sim):
+    sim = nscd_sim.Simulator(scene('urdf/pendulum.urdf'),
+                             settings={'step_control': 'adaptive', 'rtol': 1e-5, 'max_order': 4})
+    s = sim.settings
+    assert (s['step_control'], s['rtol'], s['max_order']) == ('adaptive', 1e-5, 4)
+    assert nscd_sim.Simulator(scene('urdf/pendulum.urdf')).settings['max_order'] == 6
+    with pytest.raises(nscd_sim.SceneError, match='max_order'):
+        nscd_sim.Simulator(scene('urdf/pendulum.urdf'), settings={'max_order': 1})
