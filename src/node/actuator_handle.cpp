@@ -62,7 +62,10 @@ double ActuatorHandle::commandAt(const nscd::Pose& pose, double near) const {
   return angle;
 }
 
-ActuatorHandle actuatorHandle(const nscd::Model& model, const std::string& name) {
+namespace {
+
+// The index of actuator `name`; throws SceneError naming the ones there are.
+int findActuatorOrThrow(const nscd::Model& model, const std::string& name) {
   const int index = model.findActuator(name);
   if (index < 0) {
     std::string all;
@@ -70,6 +73,48 @@ ActuatorHandle actuatorHandle(const nscd::Model& model, const std::string& name)
     throw nscd::SceneError("no actuator '" + name + "' in " + model.source_file +
                            " (actuators: " + (all.empty() ? "none" : all) + ")");
   }
+  return index;
+}
+
+// Places the handle of an actuator driving joint `j`: at the joint, in its parent's
+// frame (the world frame, or a link of the parent body); throws SceneError.
+void placeOnJoint(const nscd::Model& model, const nscd::Joint& j, ActuatorHandle& h) {
+  nscd::Pose in_frame;  // parent body frame -> marker frame
+  nscd::Pose parent;    // parent body frame in the world at the initial placement
+  if (j.body_a == nscd::kGround) {
+    h.frame = model.world_frame;
+  } else {
+    const int link = linkOfBody(model, j.body_a);
+    if (link < 0)
+      throw nscd::SceneError("actuator '" + h.name + "': joint '" + j.name + "' has a parent with no link");
+    h.frame = model.links[link].name;
+    in_frame = model.links[link].in_body.inverse();
+    parent = model.bodies[j.body_a].initial_pose;
+  }
+  h.origin = in_frame.apply(j.anchor_a);
+  h.axis = in_frame.rotate(j.axis_a).normalized();
+  if (j.type == nscd::JointType::Revolute) {
+    h.motion = ActuatorHandle::Motion::Rotate;
+    // The lever: towards the child's centre of mass, turned back to joint angle 0.
+    nscd::Vec3 com = h.origin;
+    if (j.body_b != nscd::kGround)
+      com = in_frame.apply(parent.inverse().apply(model.bodies[j.body_b].initial_pose.p));
+    nscd::Vec3 lever = com - h.origin;
+    lever -= lever.dot(h.axis) * h.axis;
+    h.lever = lever.norm();
+    lever = Eigen::AngleAxisd(-j.initial_position, h.axis) * lever;
+    h.zero = frameWithX(h.axis, lever);
+  } else {
+    h.motion = ActuatorHandle::Motion::Slide;
+    h.zero = frameWithX(h.axis, j.body_a == nscd::kGround ? planarHint(h.axis)
+                                                            : nscd::Vec3(nscd::anyOrthogonal(h.axis)));
+  }
+}
+
+}  // namespace
+
+ActuatorHandle actuatorHandle(const nscd::Model& model, const std::string& name) {
+  const int index = findActuatorOrThrow(model, name);
   const nscd::Actuator& a = model.actuators[index];
   ActuatorHandle h;
   h.name = name;
@@ -77,38 +122,7 @@ ActuatorHandle actuatorHandle(const nscd::Model& model, const std::string& name)
   const bool joint_driven =
       a.joint >= 0 && (a.type == nscd::ActuatorType::Position || a.type == nscd::ActuatorType::Prescribed);
   if (joint_driven) {
-    const nscd::Joint& j = model.joints[a.joint];
-    // The marker in the parent's frame: the world frame, or a link of the parent body.
-    nscd::Pose in_frame;  // parent body frame -> marker frame
-    nscd::Pose parent;    // parent body frame in the world at the initial placement
-    if (j.body_a == nscd::kGround) {
-      h.frame = model.world_frame;
-    } else {
-      const int link = linkOfBody(model, j.body_a);
-      if (link < 0)
-        throw nscd::SceneError("actuator '" + name + "': joint '" + j.name + "' has a parent with no link");
-      h.frame = model.links[link].name;
-      in_frame = model.links[link].in_body.inverse();
-      parent = model.bodies[j.body_a].initial_pose;
-    }
-    h.origin = in_frame.apply(j.anchor_a);
-    h.axis = in_frame.rotate(j.axis_a).normalized();
-    if (j.type == nscd::JointType::Revolute) {
-      h.motion = ActuatorHandle::Motion::Rotate;
-      // The lever: towards the child's centre of mass, turned back to joint angle 0.
-      nscd::Vec3 com = h.origin;
-      if (j.body_b != nscd::kGround)
-        com = in_frame.apply(parent.inverse().apply(model.bodies[j.body_b].initial_pose.p));
-      nscd::Vec3 lever = com - h.origin;
-      lever -= lever.dot(h.axis) * h.axis;
-      h.lever = lever.norm();
-      lever = Eigen::AngleAxisd(-j.initial_position, h.axis) * lever;
-      h.zero = frameWithX(h.axis, lever);
-    } else {
-      h.motion = ActuatorHandle::Motion::Slide;
-      h.zero = frameWithX(h.axis, j.body_a == nscd::kGround ? planarHint(h.axis)
-                                                              : nscd::Vec3(nscd::anyOrthogonal(h.axis)));
-    }
+    placeOnJoint(model, model.joints[a.joint], h);
     return h;
   }
   if (a.type == nscd::ActuatorType::Prescribed && a.body >= 0) {

@@ -117,17 +117,34 @@ ActuatorMarkers::ActuatorMarkers(ros::NodeHandle& nh, const nscd::Model& model,
   refresh_timer_ = nh.createWallTimer(ros::WallDuration(0.1), &ActuatorMarkers::refresh, this);
 }
 
-InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const {
-  const double s = m.config.scale;
-  InteractiveMarker im;
-  im.header.frame_id = m.handle.frame;  // stamp 0: RViz follows the frame's latest tf
-  im.name = m.config.actuator;
-  im.scale = s;
-  im.pose = toPose(m.handle.poseAt(command));
+namespace {
 
-  // What the mouse grabs: a thin ring about the axis (RViz's default is a broad disc
-  // that hides the part) or two arrows along it, translucent orange.
-  const bool rotate = m.handle.motion == ActuatorHandle::Motion::Rotate;
+// An annulus about the marker's x axis (in its y-z plane), radii 0.44 s to 0.5 s.
+visualization_msgs::Marker gripRing(double s, const std_msgs::ColorRGBA& color) {
+  visualization_msgs::Marker ring;
+  ring.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  ring.scale.x = ring.scale.y = ring.scale.z = 1;
+  ring.pose.orientation.w = 1;
+  ring.color = color;
+  const double r0 = 0.44 * s, r1 = 0.5 * s;
+  constexpr int kSegments = 48;
+  auto at = [](double r, double a) {
+    geometry_msgs::Point p;
+    p.y = r * std::cos(a);
+    p.z = r * std::sin(a);
+    return p;
+  };
+  for (int k = 0; k < kSegments; ++k) {
+    const double a0 = 2 * M_PI * k / kSegments, a1 = 2 * M_PI * (k + 1) / kSegments;
+    for (const geometry_msgs::Point& p : {at(r0, a0), at(r1, a0), at(r1, a1), at(r0, a0), at(r1, a1), at(r0, a1)})
+      ring.points.push_back(p);
+  }
+  return ring;
+}
+
+// What the mouse grabs: a thin ring about the axis (RViz's default is a broad disc
+// that hides the part) or two arrows along it, translucent orange.
+InteractiveMarkerControl dragControl(bool rotate, double s) {
   InteractiveMarkerControl drag;
   drag.name = rotate ? "rotate" : "slide";
   drag.interaction_mode = rotate ? InteractiveMarkerControl::ROTATE_AXIS : InteractiveMarkerControl::MOVE_AXIS;
@@ -135,25 +152,7 @@ InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const 
   drag.always_visible = true;
   const std_msgs::ColorRGBA grip = rgba(1.0f, 0.55f, 0.0f, 0.7f);
   if (rotate) {
-    visualization_msgs::Marker ring;  // an annulus in the marker's y-z plane (x is the axis)
-    ring.type = visualization_msgs::Marker::TRIANGLE_LIST;
-    ring.scale.x = ring.scale.y = ring.scale.z = 1;
-    ring.pose.orientation.w = 1;
-    ring.color = grip;
-    const double r0 = 0.44 * s, r1 = 0.5 * s;
-    constexpr int kSegments = 48;
-    auto at = [](double r, double a) {
-      geometry_msgs::Point p;
-      p.y = r * std::cos(a);
-      p.z = r * std::sin(a);
-      return p;
-    };
-    for (int k = 0; k < kSegments; ++k) {
-      const double a0 = 2 * M_PI * k / kSegments, a1 = 2 * M_PI * (k + 1) / kSegments;
-      for (const geometry_msgs::Point& p : {at(r0, a0), at(r1, a0), at(r1, a1), at(r0, a0), at(r1, a1), at(r0, a1)})
-        ring.points.push_back(p);
-    }
-    drag.markers.push_back(ring);
+    drag.markers.push_back(gripRing(s, grip));
   } else {
     for (double side : {1.0, -1.0}) {  // arrows pointing both ways along x, off the centre
       visualization_msgs::Marker arrow;
@@ -170,56 +169,75 @@ InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const 
       drag.markers.push_back(arrow);
     }
   }
-  im.controls.push_back(drag);
+  return drag;
+}
 
-  if (rotate) {
-    // The commanded lever: from the pivot towards the driven body, turning with the command.
-    InteractiveMarkerControl lever;
-    lever.name = "lever";
-    lever.interaction_mode = InteractiveMarkerControl::NONE;
-    lever.orientation_mode = InteractiveMarkerControl::INHERIT;
-    lever.always_visible = true;
-    visualization_msgs::Marker arrow;
-    arrow.type = visualization_msgs::Marker::ARROW;
-    geometry_msgs::Point a, b;
-    b.y = 0.5 * s;
-    arrow.points = {a, b};
-    arrow.scale.x = 0.03 * s;
-    arrow.scale.y = 0.08 * s;
-    arrow.scale.z = 0.1 * s;
-    arrow.color = rgba(1.0f, 0.55f, 0.0f, 0.9f);
-    arrow.pose.orientation.w = 1;
-    lever.markers.push_back(arrow);
-    im.controls.push_back(lever);
-  }
+// The commanded lever: from the pivot towards the driven body, turning with the command.
+InteractiveMarkerControl leverControl(double s) {
+  InteractiveMarkerControl lever;
+  lever.name = "lever";
+  lever.interaction_mode = InteractiveMarkerControl::NONE;
+  lever.orientation_mode = InteractiveMarkerControl::INHERIT;
+  lever.always_visible = true;
+  visualization_msgs::Marker arrow;
+  arrow.type = visualization_msgs::Marker::ARROW;
+  geometry_msgs::Point a, b;
+  b.y = 0.5 * s;
+  arrow.points = {a, b};
+  arrow.scale.x = 0.03 * s;
+  arrow.scale.y = 0.08 * s;
+  arrow.scale.z = 0.1 * s;
+  arrow.color = rgba(1.0f, 0.55f, 0.0f, 0.9f);
+  arrow.pose.orientation.w = 1;
+  lever.markers.push_back(arrow);
+  return lever;
+}
 
-  // The text: command, then effort and figures; facing the viewer, above the marker.
-  // One marker per line: RViz spaces the lines of one text marker several heights apart.
+// The text (command, then effort and figures), facing the viewer, above the marker;
+// line height h, at `offset` ([right, up]; empty: centred above the marker). One
+// marker per line: RViz spaces the lines of one text marker several heights apart.
+InteractiveMarkerControl textControl(const std::string& shown_text, const std::vector<double>& offset,
+                                     double s, double h) {
   InteractiveMarkerControl label;
   label.name = "text";
   label.interaction_mode = InteractiveMarkerControl::NONE;
   label.orientation_mode = InteractiveMarkerControl::VIEW_FACING;
   label.always_visible = true;
-  const double h = text_size_ > 0 ? text_size_ : 0.12 * s;
   size_t start = 0;
-  for (int line = 0; start <= m.shown_text.size(); ++line) {
-    const size_t end = std::min(m.shown_text.find('\n', start), m.shown_text.size());
+  for (int line = 0; start <= shown_text.size(); ++line) {
+    const size_t end = std::min(shown_text.find('\n', start), shown_text.size());
     visualization_msgs::Marker t;
     t.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
     t.scale.x = t.scale.y = t.scale.z = h;
     // In a view-facing control y is left and z up on the screen; the lines go down
     // from the first, which stands at the offset (default: centred above the marker).
-    const double right = m.config.text_offset.empty() ? 0.0 : m.config.text_offset[0];
-    const double up = m.config.text_offset.empty() ? 0.55 * s + 2.1 * h : m.config.text_offset[1];
+    const double right = offset.empty() ? 0.0 : offset[0];
+    const double up = offset.empty() ? 0.55 * s + 2.1 * h : offset[1];
     t.pose.position.y = -right;
     t.pose.position.z = up - 1.4 * h * line;
     t.pose.orientation.w = 1;
     t.color = rgba(1.0f, 0.8f, 0.3f, 1.0f);
-    t.text = m.shown_text.substr(start, end - start);
+    t.text = shown_text.substr(start, end - start);
     label.markers.push_back(t);
     start = end + 1;
   }
-  im.controls.push_back(label);
+  return label;
+}
+
+}  // namespace
+
+InteractiveMarker ActuatorMarkers::build(const Marker& m, double command) const {
+  const double s = m.config.scale;
+  InteractiveMarker im;
+  im.header.frame_id = m.handle.frame;  // stamp 0: RViz follows the frame's latest tf
+  im.name = m.config.actuator;
+  im.scale = s;
+  im.pose = toPose(m.handle.poseAt(command));
+  const bool rotate = m.handle.motion == ActuatorHandle::Motion::Rotate;
+  im.controls.push_back(dragControl(rotate, s));
+  if (rotate) im.controls.push_back(leverControl(s));
+  const double h = text_size_ > 0 ? text_size_ : 0.12 * s;
+  im.controls.push_back(textControl(m.shown_text, m.config.text_offset, s, h));
   return im;
 }
 

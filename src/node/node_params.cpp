@@ -99,6 +99,120 @@ const std::vector<std::string>& nodeParamKeys() {
   return keys;
 }
 
+namespace {
+
+// label_size and marker_z: a bad value gets a warning and the default.
+void readLabelPlacement(const ros::NodeHandle& pnh, MarkerStyle& markers) {
+  std::string error;
+  double x = 0;
+  if (numberParamChecked(pnh, "label_size", x, true, error)) markers.label_size = x;
+  else ROS_WARN("%s (text height, m); the default (3 marker_size) is used", error.c_str());
+  if (pnh.hasParam("marker_z")) {
+    XmlRpc::XmlRpcValue z;
+    pnh.getParam("marker_z", z);
+    if (paramNumber(z, markers.marker_z)) {
+      markers.have_marker_z = true;
+    } else {
+      ROS_WARN("parameter %s: expected a number (m, world z of the eccentricity markers and labels); "
+               "they stay at the bearings' own height", pnh.resolveName("marker_z").c_str());
+    }
+  }
+}
+
+// ~events: a string or a list of strings; a bad entry gets a warning and is left out.
+void readEvents(const ros::NodeHandle& pnh, std::vector<std::string>& events) {
+  XmlRpc::XmlRpcValue ev;
+  if (!pnh.getParam("events", ev)) return;
+  if (ev.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    events.push_back(static_cast<std::string>(ev));
+  } else if (ev.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+    for (int i = 0; i < ev.size(); ++i) {
+      if (ev[i].getType() == XmlRpc::XmlRpcValue::TypeString) events.push_back(static_cast<std::string>(ev[i]));
+      else ROS_WARN("parameter %s: entry %d is not a string \"LABEL: FIGURE > VALUE\"; left out",
+                    pnh.resolveName("events").c_str(), i);
+    }
+  } else {
+    ROS_WARN("parameter %s: expected a list of strings \"LABEL: FIGURE > VALUE\"; no events shown",
+             pnh.resolveName("events").c_str());
+  }
+}
+
+// ~overlay_figures: a list of key-figure names (or its text); throws SceneError.
+void readOverlayFigures(const ros::NodeHandle& pnh, NodeOptions& o) {
+  XmlRpc::XmlRpcValue ov;
+  if (!pnh.getParam("overlay_figures", ov)) return;
+  o.overlay_figures_set = true;
+  if (ov.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    // From the command line (_overlay_figures:=[a, b]) a list arrives as text.
+    std::string text = static_cast<std::string>(ov);
+    for (char& c : text)
+      if (c == ',' || c == '[' || c == ']' || c == '"' || c == '\'') c = ' ';
+    std::istringstream in(text);
+    for (std::string w; in >> w;) o.overlay_figures.push_back(w);
+  } else if (ov.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
+                           ": expected a list of key-figure names, e.g. [C7.fn, probe.effort]");
+  }
+  for (int i = 0; ov.getType() == XmlRpc::XmlRpcValue::TypeArray && i < ov.size(); ++i) {
+    if (ov[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
+                             ": expected strings (key-figure names)");
+    o.overlay_figures.push_back(static_cast<std::string>(ov[i]));
+  }
+}
+
+// ~overlay_position: 3 numbers; throws SceneError.
+void readOverlayPosition(const ros::NodeHandle& pnh, std::vector<double>& position) {
+  XmlRpc::XmlRpcValue ov;
+  if (!pnh.getParam("overlay_position", ov)) return;
+  bool ok = ov.getType() == XmlRpc::XmlRpcValue::TypeArray && ov.size() == 3;
+  for (int i = 0; ok && i < 3; ++i) {
+    double x = 0;
+    ok = paramNumber(ov[i], x);
+    if (ok) position.push_back(x);
+  }
+  if (!ok)
+    throw nscd::SceneError("parameter " + pnh.resolveName("overlay_position") +
+                           ": expected 3 numbers [x, y, z] (m, world frame)");
+}
+
+// ~command_rate_limit: {ACTUATOR: RATE, ...}; throws SceneError.
+void readCommandRateLimits(const ros::NodeHandle& pnh, NodeOptions& o) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam("command_rate_limit", v)) return;
+  const std::string where = "parameter " + pnh.resolveName("command_rate_limit");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+    throw nscd::SceneError(where + ": expected {ACTUATOR: RATE, ...} (command units per second)");
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    XmlRpc::XmlRpcValue& r = it->second;
+    double rate = NAN;
+    if (!(paramNumber(r, rate) && rate > 0))
+      throw nscd::SceneError(where + "/" + it->first + ": expected a positive number (command units per second)");
+    o.command_rate_limits.emplace_back(it->first, rate);
+  }
+}
+
+// ~schedule: a string or a list of strings; throws SceneError.
+void readSchedules(const ros::NodeHandle& pnh, std::vector<std::string>& schedules) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam("schedule", v)) return;
+  const std::string where = "parameter " + pnh.resolveName("schedule");
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    schedules.push_back(static_cast<std::string>(v));
+  } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+    for (int i = 0; i < v.size(); ++i) {
+      if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+        throw nscd::SceneError(where + ": expected strings \"NAME=t0:v0,t1:v1,...\"");
+      schedules.push_back(static_cast<std::string>(v[i]));
+    }
+  } else {
+    throw nscd::SceneError(where + ": expected a string or a list of strings " +
+                           "\"NAME=t0:v0,t1:v1,...\"");
+  }
+}
+
+}  // namespace
+
 NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   NodeOptions o;
   o.real_time_factor = numberParam(pnh, "real_time_factor", o.real_time_factor, false);
@@ -112,98 +226,15 @@ NodeOptions readNodeOptions(const ros::NodeHandle& pnh) {
   std::vector<std::string> display_errors;
   readDisplayParams(pnh, o.markers, display_errors);
   for (const std::string& e : display_errors) ROS_WARN("%s", e.c_str());
-  std::string error;
-  double x = 0;
-  if (numberParamChecked(pnh, "label_size", x, true, error)) o.markers.label_size = x;
-  else ROS_WARN("%s (text height, m); the default (3 marker_size) is used", error.c_str());
-  if (pnh.hasParam("marker_z")) {
-    XmlRpc::XmlRpcValue z;
-    pnh.getParam("marker_z", z);
-    if (paramNumber(z, o.markers.marker_z)) {
-      o.markers.have_marker_z = true;
-    } else {
-      ROS_WARN("parameter %s: expected a number (m, world z of the eccentricity markers and labels); "
-               "they stay at the bearings' own height", pnh.resolveName("marker_z").c_str());
-    }
-  }
-  XmlRpc::XmlRpcValue ev;
-  if (pnh.getParam("events", ev)) {
-    if (ev.getType() == XmlRpc::XmlRpcValue::TypeString) {
-      o.events.push_back(static_cast<std::string>(ev));
-    } else if (ev.getType() == XmlRpc::XmlRpcValue::TypeArray) {
-      for (int i = 0; i < ev.size(); ++i) {
-        if (ev[i].getType() == XmlRpc::XmlRpcValue::TypeString) o.events.push_back(static_cast<std::string>(ev[i]));
-        else ROS_WARN("parameter %s: entry %d is not a string \"LABEL: FIGURE > VALUE\"; left out",
-                      pnh.resolveName("events").c_str(), i);
-      }
-    } else {
-      ROS_WARN("parameter %s: expected a list of strings \"LABEL: FIGURE > VALUE\"; no events shown",
-               pnh.resolveName("events").c_str());
-    }
-  }
+  readLabelPlacement(pnh, o.markers);
+  readEvents(pnh, o.events);
   pnh.param("start_paused", o.start_paused, o.start_paused);
   ros::param::param("/use_sim_time", o.use_sim_time, false);
   o.overlay_size = numberParam(pnh, "overlay_size", 0.0, false);
-  XmlRpc::XmlRpcValue ov;
-  if (pnh.getParam("overlay_figures", ov)) {
-    o.overlay_figures_set = true;
-    if (ov.getType() == XmlRpc::XmlRpcValue::TypeString) {
-      // From the command line (_overlay_figures:=[a, b]) a list arrives as text.
-      std::string text = static_cast<std::string>(ov);
-      for (char& c : text)
-        if (c == ',' || c == '[' || c == ']' || c == '"' || c == '\'') c = ' ';
-      std::istringstream in(text);
-      for (std::string w; in >> w;) o.overlay_figures.push_back(w);
-    } else if (ov.getType() != XmlRpc::XmlRpcValue::TypeArray) {
-      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
-                             ": expected a list of key-figure names, e.g. [C7.fn, probe.effort]");
-    }
-    for (int i = 0; ov.getType() == XmlRpc::XmlRpcValue::TypeArray && i < ov.size(); ++i) {
-      if (ov[i].getType() != XmlRpc::XmlRpcValue::TypeString)
-        throw nscd::SceneError("parameter " + pnh.resolveName("overlay_figures") +
-                               ": expected strings (key-figure names)");
-      o.overlay_figures.push_back(static_cast<std::string>(ov[i]));
-    }
-  }
-  if (pnh.getParam("overlay_position", ov)) {
-    bool ok = ov.getType() == XmlRpc::XmlRpcValue::TypeArray && ov.size() == 3;
-    for (int i = 0; ok && i < 3; ++i) {
-      double x = 0;
-      ok = paramNumber(ov[i], x);
-      if (ok) o.overlay_position.push_back(x);
-    }
-    if (!ok)
-      throw nscd::SceneError("parameter " + pnh.resolveName("overlay_position") +
-                             ": expected 3 numbers [x, y, z] (m, world frame)");
-  }
-  XmlRpc::XmlRpcValue v;
-  if (pnh.getParam("command_rate_limit", v)) {
-    const std::string where = "parameter " + pnh.resolveName("command_rate_limit");
-    if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct)
-      throw nscd::SceneError(where + ": expected {ACTUATOR: RATE, ...} (command units per second)");
-    for (auto it = v.begin(); it != v.end(); ++it) {
-      XmlRpc::XmlRpcValue& r = it->second;
-      double rate = NAN;
-      if (!(paramNumber(r, rate) && rate > 0))
-        throw nscd::SceneError(where + "/" + it->first + ": expected a positive number (command units per second)");
-      o.command_rate_limits.emplace_back(it->first, rate);
-    }
-  }
-  if (pnh.getParam("schedule", v)) {
-    const std::string where = "parameter " + pnh.resolveName("schedule");
-    if (v.getType() == XmlRpc::XmlRpcValue::TypeString) {
-      o.schedules.push_back(static_cast<std::string>(v));
-    } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
-      for (int i = 0; i < v.size(); ++i) {
-        if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString)
-          throw nscd::SceneError(where + ": expected strings \"NAME=t0:v0,t1:v1,...\"");
-        o.schedules.push_back(static_cast<std::string>(v[i]));
-      }
-    } else {
-      throw nscd::SceneError(where + ": expected a string or a list of strings " +
-                             "\"NAME=t0:v0,t1:v1,...\"");
-    }
-  }
+  readOverlayFigures(pnh, o);
+  readOverlayPosition(pnh, o.overlay_position);
+  readCommandRateLimits(pnh, o);
+  readSchedules(pnh, o.schedules);
   return o;
 }
 

@@ -69,6 +69,73 @@ void StatePublishers::onTfSubscriber(const ros::SingleSubscriberPublisher& pub) 
   pub.publish(msg);
 }
 
+void StatePublishers::fillTf(const nscd::Simulator& sim, const ros::Time& stamp) {
+  for (size_t i = 0; i < tf_links_.size(); ++i) {
+    tf_msg_.transforms[i].header.stamp = stamp;
+    tf_msg_.transforms[i].transform = toTransform(sim.linkPose(tf_links_[i]));
+  }
+  last_tf_stamp_ = stamp;
+  have_tf_stamp_ = true;
+}
+
+void StatePublishers::fillContacts(const nscd::Simulator& sim, const ros::Time& stamp) {
+  const nscd::Model& model = sim.model();
+  const std::vector<nscd::ContactReport>& reports = sim.contactPoints();
+  contacts_msg_.header.stamp = stamp;
+  contacts_msg_.header.frame_id = model.world_frame;
+  contacts_msg_.sim_time = sim.state().t;
+  contacts_msg_.steps = session_.steps();
+  contacts_msg_.contacts.resize(reports.size());
+  for (size_t i = 0; i < reports.size(); ++i) toContactMsg(model, reports[i], contacts_msg_.contacts[i]);
+}
+
+void StatePublishers::fillJointStates(const nscd::Simulator& sim, const ros::Time& stamp) {
+  joint_states_msg_.header.stamp = stamp;
+  for (size_t k = 0; k < joint_state_index_.size(); ++k) {
+    joint_states_msg_.position[k] = sim.jointPosition(joint_state_index_[k]);
+    joint_states_msg_.velocity[k] = sim.jointVelocity(joint_state_index_[k]);
+  }
+}
+
+// Needs figure_values_ up to date.
+void StatePublishers::fillStatus(double t, const ros::Time& stamp) {
+  // rtf over the last publication period (sim time per wall time).
+  const auto now = SteadyClock::now();
+  const double wall = seconds(now - status_wall_);
+  if (wall > 0 && status_have_) status_rtf_ = (t - status_sim_) / wall;
+  status_wall_ = now;
+  status_sim_ = t;
+  status_have_ = true;
+  for (size_t i = 0; i < overlay_.figures.size(); ++i) status_values_[i] = figure_values_[overlay_.figures[i]];
+  StatusText text;
+  text.position = overlay_.position;
+  text.height = overlay_.height;
+  buildStatusMarker(t, status_rtf_, session_.paused(), style_, status_names_, status_values_, text,
+                    stamp, status_msg_);
+}
+
+// Needs figure_values_ up to date.
+void StatePublishers::fillKeyFigures(double t, const ros::Time& stamp) {
+  key_figures_msg_.header.stamp = stamp;
+  key_figures_msg_.sim_time = t;
+  key_figures_msg_.steps = session_.steps();
+  key_figures_msg_.values = figure_values_;
+}
+
+void StatePublishers::fillMarkers(const nscd::Simulator& sim, const ros::Time& stamp) {
+  for (size_t i = 0; i < eccentricity_.size(); ++i) eccentricity_[i] = eccentricityView(sim, static_cast<int>(i));
+  buildContactMarkers(sim.contactPoints(), eccentricity_, style_, stamp, markers_msg_, marker_names_);
+  const EventTracker& events = session_.events();
+  if (!events.empty()) {
+    StatusText text;
+    text.position = overlay_.position;
+    text.height = overlay_.height;
+    appendEventMarkers(events.happened(), style_, text, stamp, markers_msg_);
+  }
+}
+
+// Fills, under the loop lock, only the messages someone subscribes to (tf always),
+// then publishes them.
 void StatePublishers::publish() {
   const bool want_contacts = contacts_pub_.getNumSubscribers() > 0;
   const bool want_markers = markers_pub_.getNumSubscribers() > 0;
@@ -81,73 +148,18 @@ void StatePublishers::publish() {
     const auto lock = session_.loopLock();
     if (session_.failed()) return;  // the state may hold NaN: keep the last good picture
     const nscd::Simulator& sim = session_.sim();
-    const nscd::Model& model = sim.model();
     t = sim.state().t;
     const ros::Time stamp = stampFor(use_sim_time_, t);
     // With sim time, a repeated stamp (paused) would make tf listeners complain
     // (TF_REPEATED_DATA); late subscribers get the transforms from onTfSubscriber.
     publish_tf = !(use_sim_time_ && stamp == last_tf_stamp_ && have_tf_stamp_);
-    if (publish_tf) {
-      for (size_t i = 0; i < tf_links_.size(); ++i) {
-        tf_msg_.transforms[i].header.stamp = stamp;
-        tf_msg_.transforms[i].transform = toTransform(sim.linkPose(tf_links_[i]));
-      }
-      last_tf_stamp_ = stamp;
-      have_tf_stamp_ = true;
-    }
-    if (want_contacts) {
-      const std::vector<nscd::ContactReport>& reports = sim.contactPoints();
-      contacts_msg_.header.stamp = stamp;
-      contacts_msg_.header.frame_id = model.world_frame;
-      contacts_msg_.sim_time = t;
-      contacts_msg_.steps = session_.steps();
-      contacts_msg_.contacts.resize(reports.size());
-      for (size_t i = 0; i < reports.size(); ++i)
-        toContactMsg(model, reports[i], contacts_msg_.contacts[i]);
-    }
-    if (want_joint_states) {
-      joint_states_msg_.header.stamp = stamp;
-      for (size_t k = 0; k < joint_state_index_.size(); ++k) {
-        joint_states_msg_.position[k] = sim.jointPosition(joint_state_index_[k]);
-        joint_states_msg_.velocity[k] = sim.jointVelocity(joint_state_index_[k]);
-      }
-    }
+    if (publish_tf) fillTf(sim, stamp);
+    if (want_contacts) fillContacts(sim, stamp);
+    if (want_joint_states) fillJointStates(sim, stamp);
     if (want_key_figures || want_status) nscd::keyFigureValues(sim, figure_values_);
-    if (want_status) {
-      // rtf over the last publication period (sim time per wall time).
-      const auto now = SteadyClock::now();
-      const double wall = seconds(now - status_wall_);
-      if (wall > 0 && status_have_) status_rtf_ = (t - status_sim_) / wall;
-      status_wall_ = now;
-      status_sim_ = t;
-      status_have_ = true;
-      for (size_t i = 0; i < overlay_.figures.size(); ++i)
-        status_values_[i] = figure_values_[overlay_.figures[i]];
-      StatusText text;
-      text.position = overlay_.position;
-      text.height = overlay_.height;
-      buildStatusMarker(t, status_rtf_, session_.paused(), style_, status_names_, status_values_,
-                        text, stamp, status_msg_);
-    }
-    if (want_key_figures) {
-      key_figures_msg_.header.stamp = stamp;
-      key_figures_msg_.sim_time = t;
-      key_figures_msg_.steps = session_.steps();
-      key_figures_msg_.values = figure_values_;
-    }
-    if (want_markers) {
-      for (size_t i = 0; i < eccentricity_.size(); ++i)
-        eccentricity_[i] = eccentricityView(sim, static_cast<int>(i));
-      buildContactMarkers(sim.contactPoints(), eccentricity_, style_, stamp, markers_msg_,
-                          marker_names_);
-      const EventTracker& events = session_.events();
-      if (!events.empty()) {
-        StatusText text;
-        text.position = overlay_.position;
-        text.height = overlay_.height;
-        appendEventMarkers(events.happened(), style_, text, stamp, markers_msg_);
-      }
-    }
+    if (want_status) fillStatus(t, stamp);
+    if (want_key_figures) fillKeyFigures(t, stamp);
+    if (want_markers) fillMarkers(sim, stamp);
   }
   if (publish_tf) {
     tf_pub_.publish(tf_msg_);

@@ -38,6 +38,13 @@ class StatePublishers {
 
  private:
   void onTfSubscriber(const ros::SingleSubscriberPublisher& pub);
+  // Each fills its message from the simulator (under the loop lock) for publish().
+  void fillTf(const nscd::Simulator& sim, const ros::Time& stamp);
+  void fillContacts(const nscd::Simulator& sim, const ros::Time& stamp);
+  void fillJointStates(const nscd::Simulator& sim, const ros::Time& stamp);
+  void fillStatus(double t, const ros::Time& stamp);
+  void fillKeyFigures(double t, const ros::Time& stamp);
+  void fillMarkers(const nscd::Simulator& sim, const ros::Time& stamp);
 
   SimSession& session_;
   const bool use_sim_time_;

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -61,98 +63,121 @@ class ProgressBar {
   double last_ = -1;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"nscd_run: headless Moreau-Jean simulation of a scene (URDF + <nscd>)"};
+// The command line's values (docs/interfaces.md).
+struct RunOptions {
   std::string scene, config, csv, dump_dir, dump_when = "unconverged";
   std::vector<std::string> sets, commands;
   double duration = 1.0, dt = 0;
+  bool dt_given = false;  // --dt on the command line, even if 0
   int every = 1;
   bool quiet = false;
-  app.add_option("scene", scene, "scene file (URDF with <nscd> annotations)")->required();
-  app.add_option("--config", config, "YAML file of simulation settings");
-  app.add_option("--set", sets, "override a setting: key=value (repeatable)");
-  app.add_option("--duration", duration, "simulated time, s (default 1)");
-  app.add_option("--dt", dt, "time step, s (overrides the scene)");
-  app.add_option("--csv", csv, "write a CSV row every N steps to this file");
-  app.add_option("--every", every, "CSV row every N steps (default 1)");
-  app.add_option("--command", commands, "actuator schedule NAME=t0:v0,t1:v1,... (repeatable)");
-  app.add_flag("--quiet", quiet, "no progress bar");
-  app.add_option("--dump-problems", dump_dir,
+};
+
+// Bad input: the one line to print before exiting with status 2.
+struct BadInput {
+  std::string line;
+};
+
+void declareOptions(CLI::App& app, RunOptions& o) {
+  app.add_option("scene", o.scene, "scene file (URDF with <nscd> annotations)")->required();
+  app.add_option("--config", o.config, "YAML file of simulation settings");
+  app.add_option("--set", o.sets, "override a setting: key=value (repeatable)");
+  app.add_option("--duration", o.duration, "simulated time, s (default 1)");
+  app.add_option("--dt", o.dt, "time step, s (overrides the scene)");
+  app.add_option("--csv", o.csv, "write a CSV row every N steps to this file");
+  app.add_option("--every", o.every, "CSV row every N steps (default 1)");
+  app.add_option("--command", o.commands, "actuator schedule NAME=t0:v0,t1:v1,... (repeatable)");
+  app.add_flag("--quiet", o.quiet, "no progress bar");
+  app.add_option("--dump-problems", o.dump_dir,
                  "write friction-contact problems to this folder (docs/interfaces.md)");
-  app.add_option("--dump-when", dump_when,
+  app.add_option("--dump-when", o.dump_when,
                  "which problems: unconverged (default), all, a step count N (every Nth step), or "
                  "stage=NAME[,NAME...] (those these solver stages finished, docs/solver.md)");
+}
+
+// Parses and checks the command line into `o`; throws BadInput. Returns the exit
+// status if the run is over already (--help).
+std::optional<int> parseCommandLine(int argc, char** argv, RunOptions& o) {
+  CLI::App app{"nscd_run: headless Moreau-Jean simulation of a scene (URDF + <nscd>)"};
+  declareOptions(app, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return badInput(std::string("nscd_run: ") + e.what() + " (see --help)");
+    throw BadInput{std::string("nscd_run: ") + e.what() + " (see --help)"};
   }
-  if (!std::isfinite(duration) || duration < 0)
-    return badInput("nscd_run: --duration must be a finite number >= 0");
-  if (every < 1) return badInput("nscd_run: --every must be >= 1");
+  o.dt_given = app.count("--dt") > 0;
+  if (!std::isfinite(o.duration) || o.duration < 0)
+    throw BadInput{"nscd_run: --duration must be a finite number >= 0"};
+  if (o.every < 1) throw BadInput{"nscd_run: --every must be >= 1"};
+  return std::nullopt;
+}
+
+// The problem dump --dump-problems asks for (null without it); throws BadInput.
+std::unique_ptr<nscd::ProblemDump> openProblemDump(const RunOptions& o) {
   std::unique_ptr<nscd::ProblemDump> dump;
   try {
-    if (!dump_dir.empty()) dump = std::make_unique<nscd::ProblemDump>(dump_dir, dump_when);
+    if (!o.dump_dir.empty()) dump = std::make_unique<nscd::ProblemDump>(o.dump_dir, o.dump_when);
   } catch (const std::invalid_argument& e) {
-    return badInput(std::string("nscd_run: --dump-when ") + e.what());
+    throw BadInput{std::string("nscd_run: --dump-when ") + e.what()};
   }
-  if (!dump_dir.empty() && access(dump_dir.c_str(), W_OK) != 0)
-    return badInput("nscd_run: --dump-problems " + dump_dir + ": not a writable folder");
+  if (!o.dump_dir.empty() && access(o.dump_dir.c_str(), W_OK) != 0)
+    throw BadInput{"nscd_run: --dump-problems " + o.dump_dir + ": not a writable folder"};
+  return dump;
+}
 
+// The settings overrides of --config, --set and --dt, in that order (later wins).
+std::vector<nscd::SettingOverride> settingOverrides(const RunOptions& o) {
   std::vector<nscd::SettingOverride> overrides;
-  std::unique_ptr<nscd::Simulator> sim;
-  std::vector<nscd::BoundSchedule> schedules;
+  if (!o.config.empty()) overrides = nscd::readSettingsYaml(o.config);
+  for (const std::string& s : o.sets) {
+    nscd::SettingOverride ov;
+    if (!nscd_run::parseSetOption(s, ov)) throw BadInput{"nscd_run: --set " + s + ": expected key=value"};
+    overrides.push_back(ov);
+  }
+  if (o.dt != 0 || o.dt_given) {
+    std::ostringstream os;
+    os.precision(17);
+    os << o.dt;
+    overrides.push_back({"dt", os.str(), "--dt"});
+  }
+  return overrides;
+}
+
+// Loads the scene with its overrides and binds the --command schedules to it;
+// throws BadInput.
+std::unique_ptr<nscd::Simulator> loadSimulator(const RunOptions& o,
+                                               std::vector<nscd::BoundSchedule>& schedules) {
   try {
-    if (!config.empty()) overrides = nscd::readSettingsYaml(config);
-    for (const std::string& s : sets) {
-      nscd::SettingOverride o;
-      if (!nscd_run::parseSetOption(s, o))
-        return badInput("nscd_run: --set " + s + ": expected key=value");
-      overrides.push_back(o);
-    }
-    if (dt != 0 || app.count("--dt")) {
-      std::ostringstream os;
-      os.precision(17);
-      os << dt;
-      overrides.push_back({"dt", os.str(), "--dt"});
-    }
-    nscd::Model model = nscd::loadScene(scene, overrides);
+    nscd::Model model = nscd::loadScene(o.scene, settingOverrides(o));
     try {
-      schedules = nscd::bindCommandSchedules(commands, model);
+      schedules = nscd::bindCommandSchedules(o.commands, model);
     } catch (const std::invalid_argument& e) {
-      return badInput(std::string("nscd_run: --command: ") + e.what());
+      throw BadInput{std::string("nscd_run: --command: ") + e.what()};
     }
-    sim = std::make_unique<nscd::Simulator>(std::move(model));
+    return std::make_unique<nscd::Simulator>(std::move(model));
   } catch (const nscd::SceneError& e) {
-    return badInput(e.what());
+    throw BadInput{e.what()};
   } catch (const std::invalid_argument& e) {
-    return badInput(std::string("nscd_run: ") + e.what());
+    throw BadInput{std::string("nscd_run: ") + e.what()};
   } catch (const std::exception& e) {
-    return badInput(e.what());
+    throw BadInput{e.what()};
   }
+}
 
-  std::unique_ptr<nscd::CsvWriter> writer;
+// The --csv writer (null without it); throws BadInput.
+std::unique_ptr<nscd::CsvWriter> openCsv(const RunOptions& o, const nscd::Simulator& sim) {
   try {
-    if (!csv.empty()) writer = std::make_unique<nscd::CsvWriter>(csv, *sim);
+    if (!o.csv.empty()) return std::make_unique<nscd::CsvWriter>(o.csv, sim);
   } catch (const std::exception& e) {
-    return badInput(std::string("nscd_run: ") + e.what());
+    throw BadInput{std::string("nscd_run: ") + e.what()};
   }
+  return nullptr;
+}
 
-  const double h = sim->model().settings.dt;
-  long k = 0;
-  if (dump) sim->setProblemObserver([&](const nscd::ProblemView& v) { dump->write(v, k); });
-  // Fixed steps: round(duration / dt) of them; adaptive: until the sim time
-  // reaches duration (scheduled_step.hpp).
-  const bool adaptive = sim->model().settings.step_control == nscd::StepControl::Adaptive;
-  const long steps = static_cast<long>(std::llround(duration / h));
-  nscd::applySchedules(schedules, 0.0, *sim);
-  if (writer) writer->writeRow(*sim);
-  const double energy_initial = sim->energy().total();
-  ProgressBar progress(!quiet && isatty(2), adaptive ? duration : steps * h);
+// The per-step figures of a run, gathered for its RunSummary.
+struct RunTally {
   long iters_sum = 0;
   int iters_max = 0, unconverged = 0, plastic_retries = 0, frictionless_fallbacks = 0, energy_capped = 0;
   int longer_solves = 0;
@@ -160,15 +185,8 @@ int main(int argc, char** argv) {
   long rejected = 0, extrapolated = 0;
   double residual_max = 0, max_pen = 0, h_min = INFINITY, h_max = 0;
   nscd::StageCounts counts;
-  const auto t0 = std::chrono::steady_clock::now();
-  auto wall = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  };
-  int status = 0;
-  for (k = 1; !nscd::runFinished(*sim, k - 1, duration); ++k) {
-    nscd::prepareScheduledStep(*sim, schedules, k, duration);  // the command at the end of the step
-    const nscd::StepStatus st = sim->step();
-    const nscd::StepStats& s = sim->stats();
+
+  void add(const nscd::StepStats& s, nscd::StepStatus st) {
     rejected += s.rejected;
     extrapolated += s.extrapolated;
     h_min = std::min(h_min, s.h);
@@ -185,42 +203,109 @@ int main(int argc, char** argv) {
     frictionless_fallbacks += s.frictionless_fallback;
     energy_capped += s.energy_capped;
     counts.addStep(s);
+  }
+
+  // Copies the tallied fields into `summary`.
+  void fill(nscd::RunSummary& summary) const {
+    summary.iters_sum = iters_sum;
+    summary.iters_max = iters_max;
+    summary.residual_max = residual_max;
+    summary.unconverged_steps = unconverged;
+    summary.plastic_retries = plastic_retries;
+    summary.longer_solves = longer_solves;
+    summary.halved_steps = halved;
+    summary.substeps_max = substeps_max;
+    summary.frictionless_fallbacks = frictionless_fallbacks;
+    summary.energy_capped_steps = energy_capped;
+    summary.max_penetration = max_pen;
+    summary.rejected_steps = rejected;
+    summary.extrapolated_steps = extrapolated;
+    summary.h_min = h_max > 0 ? h_min : 0;
+    summary.h_max = h_max;
+    summary.counts = counts;
+  }
+};
+
+// What is needed to step a loaded scene through its run.
+struct RunParts {
+  nscd::Simulator& sim;
+  const std::vector<nscd::BoundSchedule>& schedules;
+  nscd::CsvWriter* writer;  // null: no CSV
+  ProgressBar& progress;
+};
+
+// Steps to the end of the run: round(duration / dt) fixed steps, or adaptive ones
+// until the sim time reaches duration (scheduled_step.hpp). `k` is the step being
+// taken (the problem dump names its files by it). Returns the exit status: 0, or
+// 3 if the state went non-finite (then reported on stderr).
+int stepToEnd(const RunParts& run, const RunOptions& o, long& k, RunTally& tally,
+              const std::function<double()>& wall) {
+  nscd::Simulator& sim = run.sim;
+  for (k = 1; !nscd::runFinished(sim, k - 1, o.duration); ++k) {
+    nscd::prepareScheduledStep(sim, run.schedules, k, o.duration);  // the command at the end of the step
+    const nscd::StepStatus st = sim.step();
+    const nscd::StepStats& s = sim.stats();
+    tally.add(s, st);
     if (st == nscd::StepStatus::NonFinite) {
-      progress.finish(sim->state().t, wall());
-      std::cerr << "nscd_run: simulation failed at t=" << sim->state().t
+      run.progress.finish(sim.state().t, wall());
+      std::cerr << "nscd_run: simulation failed at t=" << sim.state().t
                 << " s: non-finite state (last solver residual " << s.residual << " after "
                 << s.iterations << " iterations)" << std::endl;
-      status = 3;
-      break;
+      return 3;
     }
-    if (writer && k % every == 0) writer->writeRow(*sim);
-    if ((k & 255) == 0) progress.update(sim->state().t, wall());
+    if (run.writer && k % o.every == 0) run.writer->writeRow(sim);
+    if ((k & 255) == 0) run.progress.update(sim.state().t, wall());
   }
+  return 0;
+}
+
+// Runs the loaded scene, writes its CSV and prints the JSON summary; returns the
+// exit status (stepToEnd).
+int runAndReport(const RunOptions& o, nscd::Simulator& sim,
+                 const std::vector<nscd::BoundSchedule>& schedules, nscd::CsvWriter* writer,
+                 nscd::ProblemDump* dump) {
+  const double h = sim.model().settings.dt;
+  long k = 0;
+  if (dump) sim.setProblemObserver([&](const nscd::ProblemView& v) { dump->write(v, k); });
+  const bool adaptive = sim.model().settings.step_control == nscd::StepControl::Adaptive;
+  const long steps = static_cast<long>(std::llround(o.duration / h));
+  nscd::applySchedules(schedules, 0.0, sim);
+  if (writer) writer->writeRow(sim);
+  const double energy_initial = sim.energy().total();
+  ProgressBar progress(!o.quiet && isatty(2), adaptive ? o.duration : steps * h);
+  RunTally tally;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::function<double()> wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const int status = stepToEnd({sim, schedules, writer, progress}, o, k, tally, wall);
   const double wall_s = wall();
-  progress.finish(sim->state().t, wall_s);
-  if (dump) std::cerr << "nscd_run: " << dump->written() << " problems written to " << dump_dir << std::endl;
+  progress.finish(sim.state().t, wall_s);
+  if (dump) std::cerr << "nscd_run: " << dump->written() << " problems written to " << o.dump_dir << std::endl;
+  if (dump) sim.setProblemObserver(nullptr);  // it refers to k, which ends here
   nscd::RunSummary summary;
   summary.steps = status == 0 ? k - 1 : k;
-  summary.sim_time = sim->state().t;
+  summary.sim_time = sim.state().t;
   summary.wall_s = wall_s;
-  summary.iters_sum = iters_sum;
-  summary.iters_max = iters_max;
-  summary.residual_max = residual_max;
-  summary.unconverged_steps = unconverged;
-  summary.plastic_retries = plastic_retries;
-  summary.longer_solves = longer_solves;
-  summary.halved_steps = halved;
-  summary.substeps_max = substeps_max;
-  summary.frictionless_fallbacks = frictionless_fallbacks;
-  summary.energy_capped_steps = energy_capped;
-  summary.max_penetration = max_pen;
   summary.energy_initial = energy_initial;
-  summary.energy_final = sim->energy().total();
-  summary.rejected_steps = rejected;
-  summary.extrapolated_steps = extrapolated;
-  summary.h_min = h_max > 0 ? h_min : 0;
-  summary.h_max = h_max;
-  summary.counts = counts;
+  summary.energy_final = sim.energy().total();
+  tally.fill(summary);
   std::cout << nscd::runSummaryJson(summary) << std::endl;
   return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    RunOptions opts;
+    if (const std::optional<int> exit_status = parseCommandLine(argc, argv, opts)) return *exit_status;
+    std::unique_ptr<nscd::ProblemDump> dump = openProblemDump(opts);
+    std::vector<nscd::BoundSchedule> schedules;
+    std::unique_ptr<nscd::Simulator> sim = loadSimulator(opts, schedules);
+    std::unique_ptr<nscd::CsvWriter> writer = openCsv(opts, *sim);
+    return runAndReport(opts, *sim, schedules, writer.get(), dump.get());
+  } catch (const BadInput& e) {
+    return badInput(e.line);
+  }
 }

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -36,190 +37,274 @@ std::string wallText(double s) {
   return buf;
 }
 
-}  // namespace
+// The command line's values (see --help).
+struct SweepOptions {
+  std::string scene, csv, shard = "0/1", series;
+  std::vector<std::string> scenes, params, sets, merge, commands;
+  double duration = 0.1;
+  int jobs = nscd::sweep::defaultJobs(), every = 1;
+  bool list = false, no_timing = false, quiet = false, violation = false, progress = false;
+  bool scene_axis = false;   // --scenes given: the scene is a sweep axis
+  bool every_given = false;  // --every on the command line
+};
 
-int main(int argc, char** argv) {
-  using namespace nscd::sweep;
+// Bad input: the line (after "nscd_sweep: ") to print before exiting with status 2.
+struct BadInput {
+  std::string line;
+};
+
+void declareOptions(CLI::App& app, SweepOptions& o) {
+  app.add_option("scene", o.scene, "scene file (URDF with <nscd> annotations)");
+  app.add_option("--scenes", o.scenes,
+                 "sweep over these scene files instead (the slowest axis; CSV column 'scene')");
+  app.add_option("--param", o.params, "sweep axis: key=v1,v2,... | key=log:lo:hi:n | key=lin:lo:hi:n");
+  app.add_option("--set", o.sets, "fixed setting key=value for every run (repeatable)");
+  app.add_option("--command", o.commands,
+                 "actuator schedule NAME=t0:v0,t1:v1,... for every run, as nscd_run's (repeatable)");
+  app.add_option("--duration", o.duration, "simulated time per run, s (default 0.1)");
+  app.add_option("--jobs", o.jobs, "worker threads (default: all cores)");
+  app.add_option("--shard", o.shard, "run only shard i of n: runs k with k mod n == i (default 0/1)");
+  app.add_option("--csv", o.csv, "output file (default: standard output)");
+  app.add_option("--series", o.series,
+                 "also write run k's time series to DIR/run_<k>.csv (as nscd_run --csv) and "
+                 "nscd_run's JSON line to DIR/run_<k>.json");
+  app.add_option("--every", o.every, "with --series: a series row every N steps (default 1)");
+  app.add_option("--merge", o.merge, "merge shard CSVs into one (sorted by run) on standard output");
+  app.add_flag("--list", o.list, "print the runs of this shard and their parameters, run nothing");
+  app.add_flag("--no-timing", o.no_timing, "leave out wall_s (output identical across reruns)");
+  app.add_flag("--violation", o.violation, "also call Simulator::constraintViolation() every step");
+  app.add_flag("--quiet", o.quiet, "no progress on standard error");
+  app.add_flag("--progress", o.progress, "one line per finished run on standard error, even when not a terminal");
+}
+
+// Parses the command line into `o`; throws BadInput. Returns the exit status if
+// the run is over already (--help).
+std::optional<int> parseCommandLine(int argc, char** argv, SweepOptions& o) {
   CLI::App app{
       "nscd_sweep: run a scene (or each of --scenes) over the Cartesian product of\n"
       "parameter values. Parameters: any setting (dt, tolerance, projection, planar,\n"
       "...) and radial, mu, e (every clearance joint / contact pair), mass_scale."};
-  std::string scene, csv, shard = "0/1", series;
-  std::vector<std::string> scenes, params, sets, merge, commands;
-  double duration = 0.1;
-  int jobs = defaultJobs(), every = 1;
-  bool list = false, no_timing = false, quiet = false, violation = false, progress = false;
-  app.add_option("scene", scene, "scene file (URDF with <nscd> annotations)");
-  app.add_option("--scenes", scenes,
-                 "sweep over these scene files instead (the slowest axis; CSV column 'scene')");
-  app.add_option("--param", params, "sweep axis: key=v1,v2,... | key=log:lo:hi:n | key=lin:lo:hi:n");
-  app.add_option("--set", sets, "fixed setting key=value for every run (repeatable)");
-  app.add_option("--command", commands,
-                 "actuator schedule NAME=t0:v0,t1:v1,... for every run, as nscd_run's (repeatable)");
-  app.add_option("--duration", duration, "simulated time per run, s (default 0.1)");
-  app.add_option("--jobs", jobs, "worker threads (default: all cores)");
-  app.add_option("--shard", shard, "run only shard i of n: runs k with k mod n == i (default 0/1)");
-  app.add_option("--csv", csv, "output file (default: standard output)");
-  app.add_option("--series", series,
-                 "also write run k's time series to DIR/run_<k>.csv (as nscd_run --csv) and "
-                 "nscd_run's JSON line to DIR/run_<k>.json");
-  app.add_option("--every", every, "with --series: a series row every N steps (default 1)");
-  app.add_option("--merge", merge, "merge shard CSVs into one (sorted by run) on standard output");
-  app.add_flag("--list", list, "print the runs of this shard and their parameters, run nothing");
-  app.add_flag("--no-timing", no_timing, "leave out wall_s (output identical across reruns)");
-  app.add_flag("--violation", violation, "also call Simulator::constraintViolation() every step");
-  app.add_flag("--quiet", quiet, "no progress on standard error");
-  app.add_flag("--progress", progress, "one line per finished run on standard error, even when not a terminal");
+  declareOptions(app, o);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return badInput(std::string(e.what()) + " (see --help)");
+    throw BadInput{std::string(e.what()) + " (see --help)"};
   }
+  o.scene_axis = app.count("--scenes") > 0;
+  o.every_given = app.count("--every") > 0;
+  return std::nullopt;
+}
 
-  if (!merge.empty()) {
-    try {
-      const long n = mergeCsv(merge, std::cout, std::cerr);
-      if (!quiet) std::cerr << "nscd_sweep: merged " << n << " rows from " << merge.size() << " files\n";
-      return 0;
-    } catch (const std::exception& e) {
-      return badInput(e.what());
-    }
-  }
-  const bool scene_axis = app.count("--scenes") > 0;
-  if (scene_axis && !scene.empty()) return badInput("give one scene file or --scenes, not both");
-  if (scene_axis && scenes.empty()) return badInput("--scenes needs at least one scene file");
-  if (!scene_axis) {
-    if (scene.empty()) return badInput("a scene file is required (or --scenes, or --merge)");
-    scenes = {scene};
-  }
-  if (!(duration > 0)) return badInput("--duration must be > 0");
-  if (jobs < 1) return badInput("--jobs must be >= 1");
-  if (every < 1) return badInput("--every must be >= 1");
-  if (app.count("--every") && series.empty()) return badInput("--every needs --series DIR");
-
-  std::vector<SweepAxis> axes;
-  int shard_i = 0, shard_n = 1;
-  // Every scene loaded, and every axis value and schedule checked against it,
-  // before spending any time; the runs then only read these (one copy each).
-  std::vector<nscd::Model> bases;
-  std::vector<std::vector<nscd::BoundSchedule>> schedules;
+// --merge: writes the merged shard CSVs to standard output; returns the exit status.
+int mergeShards(const SweepOptions& o) {
   try {
-    for (const std::string& p : params) axes.push_back(parseAxis(p));
-    parseShard(shard, shard_i, shard_n);
-    std::vector<nscd::SettingOverride> ov;
-    for (const std::string& s : sets) {
-      const size_t eq = s.find('=');
-      if (eq == std::string::npos || eq == 0) return badInput("--set " + s + ": expected key=value");
-      ov.push_back({s.substr(0, eq), s.substr(eq + 1), "--set"});
-    }
-    for (const std::string& file : scenes) {
-      try {
-        bases.push_back(nscd::loadScene(file, ov));
-      } catch (const std::exception& e) {
-        const std::string what = e.what();
-        // The loader's messages start with FILE:LINE; name the file if one does not.
-        return badInput(what.rfind(file, 0) == 0 ? what : file + ": " + what);
-      }
-      try {
-        schedules.push_back(nscd::bindCommandSchedules(commands, bases.back()));
-      } catch (const std::invalid_argument& e) {
-        return badInput("--command: " + file + ": " + e.what());
-      }
-      for (const SweepAxis& a : axes)
-        for (const std::string& v : a.values) {
-          nscd::Model m = bases.back();
-          try {
-            applyParam(m, a.key, v);
-          } catch (const std::exception& e) {
-            return badInput(scene_axis ? file + ": " + e.what() : std::string(e.what()));
-          }
-        }
-    }
+    const long n = nscd::sweep::mergeCsv(o.merge, std::cout, std::cerr);
+    if (!o.quiet) std::cerr << "nscd_sweep: merged " << n << " rows from " << o.merge.size() << " files\n";
+    return 0;
   } catch (const std::exception& e) {
     return badInput(e.what());
   }
+}
 
-  const long points = gridSize(axes);
-  const long total = points * static_cast<long>(scenes.size());
-  std::vector<long> mine;
-  for (long k = shard_i; k < total; k += shard_n) mine.push_back(k);
+// Checks the options of a sweep (not --merge) and makes `o.scenes` its scene list;
+// throws BadInput.
+void checkSweepOptions(SweepOptions& o) {
+  if (o.scene_axis && !o.scene.empty()) throw BadInput{"give one scene file or --scenes, not both"};
+  if (o.scene_axis && o.scenes.empty()) throw BadInput{"--scenes needs at least one scene file"};
+  if (!o.scene_axis) {
+    if (o.scene.empty()) throw BadInput{"a scene file is required (or --scenes, or --merge)"};
+    o.scenes = {o.scene};
+  }
+  if (!(o.duration > 0)) throw BadInput{"--duration must be > 0"};
+  if (o.jobs < 1) throw BadInput{"--jobs must be >= 1"};
+  if (o.every < 1) throw BadInput{"--every must be >= 1"};
+  if (o.every_given && o.series.empty()) throw BadInput{"--every needs --series DIR"};
+}
 
-  if (!series.empty() && !list) {
-    std::error_code ec;
-    std::filesystem::create_directories(series, ec);
-    if (ec || access(series.c_str(), W_OK) != 0)
-      return badInput("--series " + series + ": not a writable folder");
-  }
-  std::unique_ptr<std::ofstream> file;
-  if (!csv.empty()) {
-    file = std::make_unique<std::ofstream>(csv);
-    if (!*file) return badInput("cannot write " + csv);
-  }
-  std::ostream& out = file ? *file : std::cout;
-  std::string header = scene_axis ? "run,runs,scene" : "run,runs";
-  for (const SweepAxis& a : axes) header += "," + a.key;
-  // Run k: scene k / points, grid point k mod points (the scene varies slowest).
-  auto leading = [&](long k) {
-    std::string row = std::to_string(k) + "," + std::to_string(total);
-    if (scene_axis) row += "," + cell(scenes[k / points]);
-    const std::vector<int> idx = gridPoint(axes, k % points);
-    for (size_t i = 0; i < axes.size(); ++i) row += "," + axes[i].values[idx[i]];
-    return row;
-  };
-  if (list) {
-    out << header << "\n";
-    for (long k : mine) out << leading(k) << "\n";
-    return 0;
-  }
+// The sweep, checked: its axes, this shard, and every scene loaded with the
+// schedules bound to it. The runs only read it (each copies its model).
+struct Sweep {
+  std::vector<nscd::sweep::SweepAxis> axes;
+  int shard_i = 0, shard_n = 1;
+  std::vector<nscd::Model> bases;  // one per scene
+  std::vector<std::vector<nscd::BoundSchedule>> schedules;  // one list per scene
+  long points = 0;  // grid points per scene
+  long total = 0;   // runs over all scenes and shards
+};
 
-  // Each run writes only its own slot of `rows` and its own series files; the
-  // models and schedules are shared read-only; the progress count and stderr
-  // are behind the mutex.
+// The --set texts as settings overrides; throws BadInput.
+std::vector<nscd::SettingOverride> fixedSettings(const SweepOptions& o) {
+  std::vector<nscd::SettingOverride> ov;
+  for (const std::string& s : o.sets) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) throw BadInput{"--set " + s + ": expected key=value"};
+    ov.push_back({s.substr(0, eq), s.substr(eq + 1), "--set"});
+  }
+  return ov;
+}
+
+// Loads `file` into the sweep, binds the schedules to it and tries every axis
+// value on it; throws BadInput.
+void addScene(const SweepOptions& o, const std::string& file,
+              const std::vector<nscd::SettingOverride>& ov, Sweep& sw) {
+  try {
+    sw.bases.push_back(nscd::loadScene(file, ov));
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    // The loader's messages start with FILE:LINE; name the file if one does not.
+    throw BadInput{what.rfind(file, 0) == 0 ? what : file + ": " + what};
+  }
+  try {
+    sw.schedules.push_back(nscd::bindCommandSchedules(o.commands, sw.bases.back()));
+  } catch (const std::invalid_argument& e) {
+    throw BadInput{"--command: " + file + ": " + e.what()};
+  }
+  for (const nscd::sweep::SweepAxis& a : sw.axes)
+    for (const std::string& v : a.values) {
+      nscd::Model m = sw.bases.back();
+      try {
+        nscd::sweep::applyParam(m, a.key, v);
+      } catch (const std::exception& e) {
+        throw BadInput{o.scene_axis ? file + ": " + e.what() : std::string(e.what())};
+      }
+    }
+}
+
+// Every scene loaded, and every axis value and schedule checked against it,
+// before spending any time; throws BadInput.
+Sweep loadSweep(const SweepOptions& o) {
+  Sweep sw;
+  try {
+    for (const std::string& p : o.params) sw.axes.push_back(nscd::sweep::parseAxis(p));
+    nscd::sweep::parseShard(o.shard, sw.shard_i, sw.shard_n);
+    const std::vector<nscd::SettingOverride> ov = fixedSettings(o);
+    for (const std::string& file : o.scenes) addScene(o, file, ov, sw);
+  } catch (const std::exception& e) {
+    throw BadInput{e.what()};
+  }
+  sw.points = nscd::sweep::gridSize(sw.axes);
+  sw.total = sw.points * static_cast<long>(o.scenes.size());
+  return sw;
+}
+
+// The CSV header's leading columns: run, runs, scene (with --scenes), the axes.
+std::string leadingHeader(const SweepOptions& o, const Sweep& sw) {
+  std::string header = o.scene_axis ? "run,runs,scene" : "run,runs";
+  for (const nscd::sweep::SweepAxis& a : sw.axes) header += "," + a.key;
+  return header;
+}
+
+// Run k's leading cells: scene k / points, grid point k mod points (the scene
+// varies slowest).
+std::string leadingCells(const SweepOptions& o, const Sweep& sw, long k) {
+  std::string row = std::to_string(k) + "," + std::to_string(sw.total);
+  if (o.scene_axis) row += "," + nscd::sweep::cell(o.scenes[k / sw.points]);
+  const std::vector<int> idx = nscd::sweep::gridPoint(sw.axes, k % sw.points);
+  for (size_t i = 0; i < sw.axes.size(); ++i) row += "," + sw.axes[i].values[idx[i]];
+  return row;
+}
+
+// Runs sweep run k (never throws: an error goes to the status).
+nscd::sweep::CaseMetrics runOne(const SweepOptions& o, const Sweep& sw, long k) {
+  using namespace nscd::sweep;
+  const long s = k / sw.points;
+  const std::vector<int> idx = gridPoint(sw.axes, k % sw.points);
+  nscd::Model m = sw.bases[s];
+  CaseMetrics r;
+  try {
+    for (size_t i = 0; i < sw.axes.size(); ++i) applyParam(m, sw.axes[i].key, sw.axes[i].values[idx[i]]);
+    CaseOptions opt;
+    opt.duration = o.duration;
+    opt.measure_violation = o.violation;
+    opt.schedules = sw.schedules[s];
+    if (!o.series.empty()) {
+      const std::string stem = (std::filesystem::path(o.series) / ("run_" + std::to_string(k))).string();
+      opt.series_csv = stem + ".csv";
+      opt.summary_json = stem + ".json";
+      opt.every = o.every;
+    }
+    r = runCase(m, opt);
+  } catch (const std::exception& e) {
+    r.status = std::string("error: ") + e.what();
+  }
+  return r;
+}
+
+// Runs this shard's runs (`mine`) over the worker threads; returns their CSV
+// rows in order. Each run writes only its own slot of the rows and its own
+// series files; the progress count and stderr are behind the mutex.
+std::vector<std::string> runShard(const SweepOptions& o, const Sweep& sw, const std::vector<long>& mine) {
   std::vector<std::string> rows(mine.size());
   std::mutex mtx;
   long done = 0;
-  const bool tty_progress = !quiet && !progress && isatty(2);
-  parallelFor(static_cast<long>(mine.size()), jobs, [&](long j) {
+  const bool tty_progress = !o.quiet && !o.progress && isatty(2);
+  nscd::sweep::parallelFor(static_cast<long>(mine.size()), o.jobs, [&](long j) {
     const long k = mine[j];
-    const long s = k / points;
-    const std::vector<int> idx = gridPoint(axes, k % points);
-    nscd::Model m = bases[s];
-    CaseMetrics r;
-    try {
-      for (size_t i = 0; i < axes.size(); ++i) applyParam(m, axes[i].key, axes[i].values[idx[i]]);
-      CaseOptions opt;
-      opt.duration = duration;
-      opt.measure_violation = violation;
-      opt.schedules = schedules[s];
-      if (!series.empty()) {
-        const std::string stem = (std::filesystem::path(series) / ("run_" + std::to_string(k))).string();
-        opt.series_csv = stem + ".csv";
-        opt.summary_json = stem + ".json";
-        opt.every = every;
-      }
-      r = runCase(m, opt);
-    } catch (const std::exception& e) {
-      r.status = std::string("error: ") + e.what();
-    }
-    rows[j] = leading(k) + "," + metricsRow(r, !no_timing);
-    if (progress || tty_progress) {
+    const nscd::sweep::CaseMetrics r = runOne(o, sw, k);
+    rows[j] = leadingCells(o, sw, k) + "," + nscd::sweep::metricsRow(r, !o.no_timing);
+    if (o.progress || tty_progress) {
       std::lock_guard<std::mutex> lock(mtx);
       ++done;
-      if (progress)
-        std::cerr << "nscd_sweep: shard " << shard_i << "/" << shard_n << ": " << done << "/"
-                  << mine.size() << " runs: run " << k << (scene_axis ? " (" + scenes[s] + ")" : "")
-                  << " " << r.status << " in " << wallText(r.wall_s) << " s" << std::endl;
+      if (o.progress)
+        std::cerr << "nscd_sweep: shard " << sw.shard_i << "/" << sw.shard_n << ": " << done << "/"
+                  << mine.size() << " runs: run " << k
+                  << (o.scene_axis ? " (" + o.scenes[k / sw.points] + ")" : "") << " " << r.status
+                  << " in " << wallText(r.wall_s) << " s" << std::endl;
       else
-        std::cerr << "\rnscd_sweep: shard " << shard_i << "/" << shard_n << ": " << done << "/"
+        std::cerr << "\rnscd_sweep: shard " << sw.shard_i << "/" << sw.shard_n << ": " << done << "/"
                   << mine.size() << " runs" << std::flush;
     }
   });
   if (tty_progress && !mine.empty()) std::cerr << "\n";
-  out << header << "," << metricsHeader(!no_timing) << "\n";
+  return rows;
+}
+
+// Makes the --series folder; throws BadInput if it cannot be written.
+void makeSeriesFolder(const std::string& series) {
+  std::error_code ec;
+  std::filesystem::create_directories(series, ec);
+  if (ec || access(series.c_str(), W_OK) != 0) throw BadInput{"--series " + series + ": not a writable folder"};
+}
+
+// Loads and checks the sweep, then lists or runs this shard's runs; returns the
+// exit status, throws BadInput.
+int sweep(SweepOptions& o) {
+  checkSweepOptions(o);
+  const Sweep sw = loadSweep(o);
+  std::vector<long> mine;
+  for (long k = sw.shard_i; k < sw.total; k += sw.shard_n) mine.push_back(k);
+  if (!o.series.empty() && !o.list) makeSeriesFolder(o.series);
+  std::unique_ptr<std::ofstream> file;
+  if (!o.csv.empty()) {
+    file = std::make_unique<std::ofstream>(o.csv);
+    if (!*file) throw BadInput{"cannot write " + o.csv};
+  }
+  std::ostream& out = file ? *file : std::cout;
+  const std::string header = leadingHeader(o, sw);
+  if (o.list) {
+    out << header << "\n";
+    for (long k : mine) out << leadingCells(o, sw, k) << "\n";
+    return 0;
+  }
+  const std::vector<std::string> rows = runShard(o, sw, mine);
+  out << header << "," << nscd::sweep::metricsHeader(!o.no_timing) << "\n";
   for (const std::string& r : rows) out << r << "\n";
   out.flush();
-  if (!out) return badInput("write failed");
+  if (!out) throw BadInput{"write failed"};
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    SweepOptions opts;
+    if (const std::optional<int> exit_status = parseCommandLine(argc, argv, opts)) return *exit_status;
+    if (!opts.merge.empty()) return mergeShards(opts);
+    return sweep(opts);
+  } catch (const BadInput& e) {
+    return badInput(e.line);
+  }
 }

@@ -551,12 +551,28 @@ std::vector<std::string> namesOf(const std::vector<Element>& elements) {
   return names;
 }
 
-}  // namespace
+using PySimulatorClass = py::class_<PySimulator>;
 
-void bindSimulator(py::module_& m) {
-  py::class_<PySimulator>(m, "Simulator",
-                          "A scene loaded with setting overrides and command schedules (docs/python.md).")
-      .def(py::init<const std::string&, const py::object&, const py::object&, const py::object&>(),
+// A few of the settings in force, as Simulator.settings gives them.
+py::dict settingsDict(const nscd::Settings& st) {
+  py::dict d;
+  d["dt"] = st.dt;
+  d["theta"] = st.theta;
+  d["tolerance"] = st.tolerance;
+  d["max_iterations"] = st.max_iterations;
+  d["projection"] = st.projection;
+  d["projection_tolerance"] = st.projection_tolerance;
+  d["step_control"] = st.step_control == nscd::StepControl::Adaptive ? "adaptive" : "fixed";
+  d["rtol"] = st.rtol;
+  d["atol"] = st.atol;
+  d["dt_min"] = st.dt_min;
+  d["max_order"] = st.max_order;
+  return d;
+}
+
+// Construction, stepping, state and commands.
+void bindRunning(PySimulatorClass& c) {
+  c.def(py::init<const std::string&, const py::object&, const py::object&, const py::object&>(),
            py::arg("scene"), py::arg("settings") = py::none(), py::arg("config") = py::none(),
            py::arg("commands") = py::none(),
            "Loads SCENE (URDF + <nscd>). settings: {key: value} or ['key=value', ...], applied "
@@ -579,8 +595,12 @@ void bindSimulator(py::module_& m) {
       .def("set_commands", &PySimulator::setCommands, py::arg("commands"),
            "Replaces the schedules given so far (same forms as the constructor's commands).")
       .def("set_command", &PySimulator::setCommand, py::arg("actuator"), py::arg("value"),
-           "Sets an actuator's command now (one that no schedule drives).")
-      .def("bodies", &PySimulator::bodies,
+           "Sets an actuator's command now (one that no schedule drives).");
+}
+
+// The structured arrays and dicts of the current state and the last step.
+void bindQueries(PySimulatorClass& c) {
+  c.def("bodies", &PySimulator::bodies,
            "Structured array, one record per free body: name, x y z, qw qx qy qz, vx vy vz, "
            "wx wy wz (world frame).")
       .def("joints", &PySimulator::joints,
@@ -594,8 +614,12 @@ void bindSimulator(py::module_& m) {
       .def("stats", &PySimulator::stats, "The last step's statistics (dict).")
       .def("energy", &PySimulator::energy, "kinetic, gravity, springs, total energy, J (dict).")
       .def("key_figures", &PySimulator::keyFigures,
-           "The CSV's columns after the bodies' at the current state, {name: value}.")
-      .def_property_readonly("time", &PySimulator::time, "sim time, s")
+           "The CSV's columns after the bodies' at the current state, {name: value}.");
+}
+
+// Time, steps, dt, scene, commands, record fields and settings.
+void bindProperties(PySimulatorClass& c) {
+  c.def_property_readonly("time", &PySimulator::time, "sim time, s")
       .def_property_readonly("steps", &PySimulator::steps, "steps since t = 0")
       .def_property_readonly("dt", &PySimulator::dt, "time step, s")
       .def_property_readonly("scene", &PySimulator::scene)
@@ -604,26 +628,13 @@ void bindSimulator(py::module_& m) {
       .def_property_readonly("record_fields", &PySimulator::fieldNames, "field names of run()'s records")
       .def_property_readonly("csv_field_count", &PySimulator::csvFieldCount,
                              "the first csv_field_count record fields are nscd_run's CSV columns")
-      .def_property_readonly("settings",
-                             [](PySimulator& s) {
-                               const nscd::Settings& st = s.model().settings;
-                               py::dict d;
-                               d["dt"] = st.dt;
-                               d["theta"] = st.theta;
-                               d["tolerance"] = st.tolerance;
-                               d["max_iterations"] = st.max_iterations;
-                               d["projection"] = st.projection;
-                               d["projection_tolerance"] = st.projection_tolerance;
-                               d["step_control"] =
-                                   st.step_control == nscd::StepControl::Adaptive ? "adaptive" : "fixed";
-                               d["rtol"] = st.rtol;
-                               d["atol"] = st.atol;
-                               d["dt_min"] = st.dt_min;
-                               d["max_order"] = st.max_order;
-                               return d;
-                             },
-                             "a few of the settings in force")
-      .def_property_readonly("body_names", [](PySimulator& s) {
+      .def_property_readonly("settings", [](PySimulator& s) { return settingsDict(s.model().settings); },
+                             "a few of the settings in force");
+}
+
+// The model's element names.
+void bindNames(PySimulatorClass& c) {
+  c.def_property_readonly("body_names", [](PySimulator& s) {
         std::vector<std::string> n;
         for (const nscd::Body& b : s.model().bodies) n.push_back(b.name);
         return n;
@@ -638,6 +649,17 @@ void bindSimulator(py::module_& m) {
       .def_property_readonly("contact_names", [](PySimulator& s) { return namesOf(s.model().contacts); })
       .def_property_readonly("spring_names", [](PySimulator& s) { return namesOf(s.model().springs); })
       .def_property_readonly("actuator_names", [](PySimulator& s) { return namesOf(s.model().actuators); });
+}
+
+}  // namespace
+
+void bindSimulator(py::module_& m) {
+  PySimulatorClass c(m, "Simulator",
+                     "A scene loaded with setting overrides and command schedules (docs/python.md).");
+  bindRunning(c);
+  bindQueries(c);
+  bindProperties(c);
+  bindNames(c);
 }
 
 }  // namespace nscd_python
