@@ -49,7 +49,10 @@ reports_dir=$ws/sanitizer_reports
 rm -rf "$reports_dir"
 mkdir -p "$reports_dir"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$reports_dir/ubsan
-libasan=$(g++ -print-file-name=libasan.so)
+# libstdc++ preloaded with libasan: python3 does not link it, and ASan's
+# __cxa_throw interceptor, set up before libstdc++ is loaded, then has no real
+# __cxa_throw to call ("CHECK failed ... real___cxa_throw", at the first C++ throw).
+preload="$(g++ -print-file-name=libasan.so) $(g++ -print-file-name=libstdc++.so.6)"
 regex=${1:-}
 log=$ws/sanitize.log  # ctest's lines; every test's whole output in $output
 output=$ws/sanitize_output.log
@@ -71,13 +74,13 @@ else
   ASAN_OPTIONS=$ours run_ctest '_gtest_|rostest_test_ros_malformed_traffic'
   # python3 loads the instrumented module: libasan first; Python's own lifetime
   # allocations are not leaks of ours.
-  LD_PRELOAD=$libasan ASAN_OPTIONS=detect_leaks=0:log_path=$reports_dir/asan run_ctest '^python_'
+  LD_PRELOAD=$preload ASAN_OPTIONS=detect_leaks=0:log_path=$reports_dir/asan run_ctest '^python_'
 fi
 passed=$(grep -Ec '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .* +Passed' "$log" || true)
 failed=$(grep -Ec '^ *[0-9]+/[0-9]+ Test +#[0-9]+: .*(\*\*\*|Failed|Not Run|Exception)' "$log" || true)
 pattern='ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:'
 # The report files, and any report line that reached an output or a ROS log anyway.
-reports=$( { grep -rhE "$pattern" "$reports_dir" "$log" "$output" "$ROS_HOME/log" 2>/dev/null || true; } | wc -l)
+reports=$( { grep -rhE "$pattern" "$reports_dir" "$log" "$output" "$ROS_HOME/log" 2>/dev/null || true; } | sort -u | wc -l)
 if [ "$reports" -gt 0 ]; then
   grep -rE "$pattern" "$reports_dir" "$log" "$output" "$ROS_HOME/log" 2>/dev/null | head -n 20 || true
   echo "sanitize: the reports in full: $reports_dir"
