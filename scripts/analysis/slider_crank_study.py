@@ -20,6 +20,7 @@ import os
 import subprocess
 
 BODIES = ("crank", "rod", "slider")
+HALF_LENGTH = 0.05  # the slider's corners from its pin, m (urdf/slider_crank.urdf)
 
 
 def run(args, name, h, sets):
@@ -78,6 +79,113 @@ def slope(hs, errs):
 
 def g(x, d=3):
     return "%.*g" % (d, x) if x is not None and x == x else "—"
+
+
+def tilted_scene(args, tilt0):
+    """The scene with the slider turned by tilt0 rad on its pin at the start (rod along +x: the tilt)."""
+    path = os.path.join(args.out, "crank_tilt%g.urdf" % tilt0)
+    text = open(args.scene).read()
+    anchor = '<initial link="crank"'
+    if anchor not in text:
+        raise SystemExit("%s: no %s to put the slider's initial angle before" % (args.scene, anchor))
+    open(path, "w").write(text.replace(anchor, '<initial joint="slider_joint" position="%r"/>\n    %s' % (tilt0, anchor), 1))
+    return path
+
+
+def first_impact(args):
+    """The slider's largest spin in the first 3.5 ms (its first impact, at 1.95 ms) against its initial tilt and h."""
+    tilts = [0, 1e-6, 1e-4] if args.quick else [0, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4]
+    hs = [1e-5, 1e-6] if args.quick else [1e-5, 1e-6, 1e-7]
+    md = ["The first impact (t = 1.95 ms, both lower corners at once when flat): the slider's largest |wz| "
+          "(rad/s) in the first 3.5 ms against its initial tilt on the pin (`<initial joint=\"slider_joint\" "
+          "position=...>`) and h; `nscd_run SCENE --duration 0.0035 --dt H --set tolerance=1e-12`:\n\n",
+          "| initial tilt rad | " + " | ".join("h = %g" % h for h in hs) + " |\n", "|---|" + "---|" * len(hs) + "\n"]
+    for t0 in tilts:
+        cells = []
+        for h in hs:
+            path = os.path.join(args.out, "crank_first_tilt%g_h%g.csv" % (t0, h))
+            if not os.path.exists(path):
+                subprocess.run([os.path.join(args.bin, "nscd_run"), tilted_scene(args, t0), "--duration", "0.0035",
+                                "--dt", "%g" % h, "--csv", path, "--every", str(max(1, round(1e-5 / h))), "--quiet",
+                                "--set", "tolerance=1e-12"], check=True, capture_output=True)
+            cells.append(g(max(abs(float(r["slider.wz"])) for r in csv.DictReader(open(path))), 2))
+        md.append("| %g | %s |\n" % (t0, " | ".join(cells)))
+    return md + ["\n"]
+
+
+def read_problem(path):
+    """A --dump-problems file: (header, contact blocks [(row, b_N, P_N, U_N)], residual, |b|)."""
+    lines = open(path).read().split("\n")
+    vec = lambda tag: [float(x) for x in next(l for l in lines if l.startswith(tag + " ")).split()[1:]]
+    W = [[float(x) for x in l.split()[1:]] for l in lines if l.startswith("W ")]
+    b, P = vec("b"), vec("P")
+    U = [sum(w * p for w, p in zip(W[i], P)) + b[i] for i in range(len(b))]
+    rows = [int(l.split()[2]) for l in lines if l.startswith("block F") or l.startswith("block N")]
+    residual = float(lines[2].split()[1])
+    return [(r, b[r], P[r], U[r]) for r in rows], residual, math.sqrt(sum(x * x for x in b))
+
+
+def kick_problem(args, sets, h, step):
+    """The problems of the step that ends at row `step` of an every-step CSV, in solve order."""
+    d = os.path.join(args.out, "crank_kick_%s_%d" % ("_".join(x.replace("=", "") for x in sets), step))
+    if not os.path.isdir(d):
+        os.makedirs(d)
+        cmd = [os.path.join(args.bin, "nscd_run"), args.scene, "--dt", "%g" % h, "--duration", "%r" % ((step + 1) * h),
+               "--quiet", "--dump-problems", d, "--dump-when", str(step - 1)]
+        for x in sets:
+            cmd += ["--set", x]
+        subprocess.run(cmd, check=True, capture_output=True)
+    names = sorted(f for f in os.listdir(d) if f.startswith("step%08d_" % step))
+    return [(f, read_problem(os.path.join(d, f))) for f in names]
+
+
+def seeds(args):
+    """The first kick of the flat slider's spin, and the first impact that spins it, in runs at h = 2e-6."""
+    h = 2e-6
+    duration = 0.06 if args.quick else 0.14
+    md = ["Where the tilt starts, h = %g, every step (`nscd_run SCENE --dt %g --duration %g --csv F --set ...`); the "
+          "kick: the first step that changes the slider's wz by more than 1e-3 rad/s while its tilt is below 1e-8 rad; "
+          "its problem dumped (`--dump-problems D --dump-when N`); b_N: a corner's normal free velocity with its "
+          "law's shifts (e U_N,k; a late corner's gap / h); U_N = W P + b after the solve. The spin: the first step "
+          "that changes wz by more than 1 rad/s, with the corners' height difference a * tilt against the "
+          "slider's fall in one step h |vy| before it:\n\n" % (h, h, duration),
+          "| configuration | kick at t s | wz rad/s before -> after | solves: corner blocks (b_N m/s; P_N N s; U_N m/s) | "
+          "residual (normalised by ‖b‖ =) | spin at t s: wz after rad/s | tilt before rad, a * tilt m, h * vy m |\n",
+          "|---|---|---|---|---|---|---|\n"]
+    for label, key, sets in [("default (tolerance 1e-8)", "tol1e-08", ["tolerance=1e-08"]),
+                             ("tolerance 1e-12", "tol1e-12", ["tolerance=1e-12"])]:
+        path = os.path.join(args.out, "crank_every_%s.csv" % key)
+        if not os.path.exists(path):
+            cmd = [os.path.join(args.bin, "nscd_run"), args.scene, "--dt", "%g" % h, "--duration", "%g" % duration,
+                   "--csv", path, "--quiet"]
+            for x in sets:
+                cmd += ["--set", x]
+            subprocess.run(cmd, check=True, capture_output=True)
+        rows = [{k: float(v) for k, v in r.items() if k == "t" or k.startswith("slider.")}
+                for r in csv.DictReader(open(path))]
+        kick = next((i for i in range(1, len(rows)) if abs(rows[i]["slider.wz"] - rows[i - 1]["slider.wz"]) > 1e-3
+                     and abs(tilt(rows[i - 1])) < 1e-8), None)
+        spin = next((i for i in range(1, len(rows)) if abs(rows[i]["slider.wz"] - rows[i - 1]["slider.wz"]) > 1), None)
+        cells = [label]
+        if kick is None:
+            cells += ["—"] * 4
+        else:
+            solves = []
+            res = ""
+            for name, (blocks, residual, bnorm) in kick_problem(args, sets, h, kick):
+                solves.append("%s: %s" % (name.split("_", 1)[1][:-4], ", ".join(
+                    "(%.3g; %.3g; %.2g)" % (bn, pn, un) for _, bn, pn, un in blocks)))
+                res = "%s (%s)" % (g(residual, 2), g(bnorm, 3))
+            cells += ["%.6f" % rows[kick]["t"], "%s -> %s" % (g(rows[kick - 1]["slider.wz"], 2), g(rows[kick]["slider.wz"], 3)),
+                      "<br>".join(solves) or "—", res]
+        if spin is None:
+            cells += ["—", "—"]
+        else:
+            b = rows[spin - 1]
+            cells += ["%.6f: %s" % (rows[spin]["t"], g(rows[spin]["slider.wz"], 3)),
+                      "%s, %s, %s" % (g(tilt(b), 2), g(HALF_LENGTH * abs(tilt(b)), 2), g(h * abs(b["slider.vy"]), 2))]
+        md.append("| %s |\n" % " | ".join(cells))
+    return md + ["\n"]
 
 
 def main():
@@ -157,6 +265,8 @@ def main():
     md.append("| h = 1e-5, projection tolerance 1e-12 | h = 1e-5, default (1e-9) | %s | %.3f (%s) | %s | %s |\n"
               % (g(e), t, bd, g(max_tilt(proj)[0], 2), g(first_tilt(proj, 1e-9))))
     md.append("\n")
+    md += first_impact(args)
+    md += seeds(args)
     open(os.path.join(args.out, "crank_study.md"), "w").write("".join(md))
     print("".join(md))
 
