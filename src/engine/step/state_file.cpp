@@ -36,7 +36,7 @@ std::string hex64(std::uint64_t h) {
 std::string hexFloat(double x) {
   char buf[64];
   char* p = buf;
-  if (std::signbit(x) && !std::isnan(x)) *p++ = '-';
+  if (std::signbit(x)) *p++ = '-';  // a NaN keeps its sign too
   if (std::isfinite(x)) {
     *p++ = '0';
     *p++ = 'x';
