@@ -1,6 +1,8 @@
 // nscd_run: the headless runner (docs/interfaces.md). Loads a scene, steps it for a
-// duration with optional actuator schedules, writes a CSV, prints one JSON line.
+// duration with optional actuator schedules (from its initial state or from a
+// state file), writes a CSV and the final state, prints one JSON line.
 // Exit status: 0 done, 2 bad input, 3 the simulation failed.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -25,6 +27,7 @@
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "nscd_sim/state_file.hpp"
 
 namespace {
 
@@ -66,6 +69,7 @@ class ProgressBar {
 // The command line's values (docs/interfaces.md).
 struct RunOptions {
   std::string scene, config, csv, dump_dir, dump_when = "unconverged";
+  std::string initial_state, save_state;  // state files (docs/interfaces.md, "State files")
   std::vector<std::string> sets, commands;
   double duration = 1.0, dt = 0;
   bool dt_given = false;  // --dt on the command line, even if 0
@@ -88,11 +92,26 @@ void declareOptions(CLI::App& app, RunOptions& o) {
   app.add_option("--every", o.every, "CSV row every N steps (default 1)");
   app.add_option("--command", o.commands, "actuator schedule NAME=t0:v0,t1:v1,... (repeatable)");
   app.add_flag("--quiet", o.quiet, "no progress bar");
+  app.add_option("--initial-state", o.initial_state,
+                 "start from this state file (its time, poses, velocities, warm starts, commands); "
+                 "--duration counts from its time");
+  app.add_option("--save-state", o.save_state, "write the state at the end of the run to this file");
   app.add_option("--dump-problems", o.dump_dir,
                  "write friction-contact problems to this folder (docs/interfaces.md)");
   app.add_option("--dump-when", o.dump_when,
                  "which problems: unconverged (default), all, a step count N (every Nth step), or "
                  "stage=NAME[,NAME...] (those these solver stages finished, docs/solver.md)");
+}
+
+// --save-state's file must be writable before the run starts, not after it.
+void checkSaveStatePath(const std::string& path) {
+  if (path.empty()) return;
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  struct stat st {};
+  if (stat(path.c_str(), &st) == 0 ? (S_ISDIR(st.st_mode) || access(path.c_str(), W_OK) != 0)
+                                   : access(dir.c_str(), W_OK) != 0)
+    throw BadInput{"nscd_run: --save-state " + path + ": cannot write this file"};
 }
 
 // Parses and checks the command line into `o`; throws BadInput. Returns the exit
@@ -111,6 +130,7 @@ std::optional<int> parseCommandLine(int argc, char** argv, RunOptions& o) {
   if (!std::isfinite(o.duration) || o.duration < 0)
     throw BadInput{"nscd_run: --duration must be a finite number >= 0"};
   if (o.every < 1) throw BadInput{"nscd_run: --every must be >= 1"};
+  checkSaveStatePath(o.save_state);
   return std::nullopt;
 }
 
@@ -156,7 +176,11 @@ std::unique_ptr<nscd::Simulator> loadSimulator(const RunOptions& o,
     } catch (const std::invalid_argument& e) {
       throw BadInput{std::string("nscd_run: --command: ") + e.what()};
     }
-    return std::make_unique<nscd::Simulator>(std::move(model));
+    auto sim = std::make_unique<nscd::Simulator>(std::move(model));
+    if (!o.initial_state.empty()) nscd::loadStateFile(o.initial_state, *sim);
+    return sim;
+  } catch (const nscd::StateFileError& e) {
+    throw BadInput{e.what()};
   } catch (const nscd::SceneError& e) {
     throw BadInput{e.what()};
   } catch (const std::invalid_argument& e) {
@@ -226,35 +250,67 @@ struct RunTally {
   }
 };
 
+// Where the run starts and ends, and how its fixed steps count time. From t = 0
+// step k ends at k dt. From a state at t0 that is a multiple of dt (to 1e-6 dt),
+// K0 = round(t0 / dt), step k ends at (K0 + k) dt: the times of the run that wrote
+// the state, so a continuation is bit-identical to it. From any other t0, at
+// t0 + k dt. Adaptive steps run until t0 + duration.
+struct RunClock {
+  double t0 = 0;
+  double until = 0;     // t0 + duration
+  long first_step = 0;  // K0, or -1: not a multiple of dt
+
+  RunClock(const nscd::Simulator& sim, double duration) : t0(sim.state().t), until(t0 + duration) {
+    const double dt = sim.model().settings.dt;
+    const double k0 = std::round(t0 / dt);
+    first_step = std::abs(t0 / dt - k0) <= 1e-6 ? static_cast<long>(k0) : -1;
+  }
+
+  // Sets the scheduled commands for step k (1, 2, ... of this run).
+  void prepare(nscd::Simulator& sim, const std::vector<nscd::BoundSchedule>& schedules, long k) const {
+    if (sim.model().settings.step_control == nscd::StepControl::Fixed && first_step < 0)
+      nscd::applySchedules(schedules, t0 + k * sim.model().settings.dt, sim);
+    else
+      nscd::prepareScheduledStep(sim, schedules, first_step + k, until);
+  }
+
+  // Whether the run is over after k steps.
+  bool finished(const nscd::Simulator& sim, long k, double duration) const {
+    const bool adaptive = sim.model().settings.step_control == nscd::StepControl::Adaptive;
+    return nscd::runFinished(sim, k, adaptive ? until : duration);
+  }
+};
+
 // What is needed to step a loaded scene through its run.
 struct RunParts {
   nscd::Simulator& sim;
   const std::vector<nscd::BoundSchedule>& schedules;
   nscd::CsvWriter* writer;  // null: no CSV
   ProgressBar& progress;
+  const RunClock& clock;
 };
 
 // Steps to the end of the run: round(duration / dt) fixed steps, or adaptive ones
-// until the sim time reaches duration (scheduled_step.hpp). `k` is the step being
+// until the sim time reaches t0 + duration (scheduled_step.hpp, RunClock). `k` is the step being
 // taken (the problem dump names its files by it). Returns the exit status: 0, or
 // 3 if the state went non-finite (then reported on stderr).
 int stepToEnd(const RunParts& run, const RunOptions& o, long& k, RunTally& tally,
               const std::function<double()>& wall) {
   nscd::Simulator& sim = run.sim;
-  for (k = 1; !nscd::runFinished(sim, k - 1, o.duration); ++k) {
-    nscd::prepareScheduledStep(sim, run.schedules, k, o.duration);  // the command at the end of the step
+  for (k = 1; !run.clock.finished(sim, k - 1, o.duration); ++k) {
+    run.clock.prepare(sim, run.schedules, k);  // the command at the end of the step
     const nscd::StepStatus st = sim.step();
     const nscd::StepStats& s = sim.stats();
     tally.add(s, st);
     if (st == nscd::StepStatus::NonFinite) {
-      run.progress.finish(sim.state().t, wall());
+      run.progress.finish(sim.state().t - run.clock.t0, wall());
       std::cerr << "nscd_run: simulation failed at t=" << sim.state().t
                 << " s: non-finite state (last solver residual " << s.residual << " after "
                 << s.iterations << " iterations)" << std::endl;
       return 3;
     }
     if (run.writer && k % o.every == 0) run.writer->writeRow(sim);
-    if ((k & 255) == 0) run.progress.update(sim.state().t, wall());
+    if ((k & 255) == 0) run.progress.update(sim.state().t - run.clock.t0, wall());
   }
   return 0;
 }
@@ -269,7 +325,9 @@ int runAndReport(const RunOptions& o, nscd::Simulator& sim,
   if (dump) sim.setProblemObserver([&](const nscd::ProblemView& v) { dump->write(v, k); });
   const bool adaptive = sim.model().settings.step_control == nscd::StepControl::Adaptive;
   const long steps = static_cast<long>(std::llround(o.duration / h));
-  nscd::applySchedules(schedules, 0.0, sim);
+  const RunClock clock(sim, o.duration);
+  // From a state file the commands are the state's (those of the run that wrote it).
+  if (o.initial_state.empty()) nscd::applySchedules(schedules, 0.0, sim);
   if (writer) writer->writeRow(sim);
   const double energy_initial = sim.energy().total();
   ProgressBar progress(!o.quiet && isatty(2), adaptive ? o.duration : steps * h);
@@ -278,19 +336,32 @@ int runAndReport(const RunOptions& o, nscd::Simulator& sim,
   const std::function<double()> wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  const int status = stepToEnd({sim, schedules, writer, progress}, o, k, tally, wall);
+  const int status = stepToEnd({sim, schedules, writer, progress, clock}, o, k, tally, wall);
   const double wall_s = wall();
-  progress.finish(sim.state().t, wall_s);
+  progress.finish(sim.state().t - clock.t0, wall_s);
   if (dump) std::cerr << "nscd_run: " << dump->written() << " problems written to " << o.dump_dir << std::endl;
   if (dump) sim.setProblemObserver(nullptr);  // it refers to k, which ends here
   nscd::RunSummary summary;
   summary.steps = status == 0 ? k - 1 : k;
-  summary.sim_time = sim.state().t;
+  summary.sim_time = sim.state().t - clock.t0;  // simulated in this run
   summary.wall_s = wall_s;
   summary.energy_initial = energy_initial;
   summary.energy_final = sim.energy().total();
   tally.fill(summary);
   std::cout << nscd::runSummaryJson(summary) << std::endl;
+  if (status == 0 && !o.save_state.empty()) {
+    try {
+      std::ostringstream note;
+      note.precision(17);
+      note << "written by nscd_run " << o.scene << " (dt " << sim.model().settings.dt << ", "
+           << (sim.model().settings.step_control == nscd::StepControl::Adaptive ? "adaptive" : "fixed")
+           << " steps) at t = " << sim.state().t << " s";
+      nscd::writeStateFile(o.save_state, sim, note.str());
+    } catch (const nscd::StateFileError& e) {
+      std::cerr << "nscd_run: --save-state " << e.what() << std::endl;
+      return 2;
+    }
+  }
   return status;
 }
 

@@ -21,6 +21,7 @@
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
+#include "nscd_sim/state_file.hpp"
 #include "records.hpp"
 
 namespace py = pybind11;
@@ -32,6 +33,11 @@ namespace {
 // ------------------------------------------------------------ argument conversion
 
 // repr(float(v)): the shortest text that reads back to the same double.
+// A str or os.PathLike as a path.
+std::string fsPath(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
 std::string floatText(const py::handle& v) {
   return py::repr(py::module_::import("builtins").attr("float")(v)).cast<std::string>();
 }
@@ -245,6 +251,20 @@ class PySimulator {
   void setState(const nscd::State& s) {
     BusyGuard g(busy_);
     sim_->setState(s);  // std::invalid_argument -> ValueError
+    steps_ = std::llround(s.t / dt());
+  }
+
+  // State files (nscd_run --save-state / --initial-state); nscd::StateFileError ->
+  // nscd_sim.StateFileError.
+  void saveState(const py::object& path) {
+    BusyGuard g(busy_);
+    nscd::writeStateFile(fsPath(path), *sim_, "written by nscd_sim.Simulator('" + scene_ + "').save_state");
+  }
+
+  void loadState(const py::object& path) {
+    BusyGuard g(busy_);
+    const nscd::State s = nscd::readStateFile(fsPath(path), *sim_);
+    sim_->setState(s);
     steps_ = std::llround(s.t / dt());
   }
 
@@ -591,6 +611,13 @@ void bindRunning(PySimulatorClass& c) {
       .def("state", &PySimulator::state, "A copy of the current State.")
       .def("set_state", &PySimulator::setState, py::arg("state"),
            "Continues from a State of this scene; the last step's outputs are cleared.")
+      .def("save_state", &PySimulator::saveState, py::arg("path"),
+           "Writes the current State to a state file (nscd_run --save-state's format, bit for bit). "
+           "Raises StateFileError if it cannot be written.")
+      .def("load_state", &PySimulator::loadState, py::arg("path"),
+           "Continues from a state file of this scene (nscd_run --initial-state's), as set_state. "
+           "Raises StateFileError ('FILE:LINE: what') for a file of another scene, a damaged one "
+           "or a non-finite value.")
       .def("reset", &PySimulator::reset, "Back to the initial state (t = 0).")
       .def("set_commands", &PySimulator::setCommands, py::arg("commands"),
            "Replaces the schedules given so far (same forms as the constructor's commands).")
