@@ -151,6 +151,42 @@ TEST(LdltKernel, FactorsSolvesAndDropsDependentRows) {
   EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-12 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), 5);
 }
 
+// Threshold pivoting: a pivot in order is kept while its diagonal is at least a
+// quarter of the largest (a diagonally dominant A keeps its order); where the
+// diagonals fall below that, the largest is swapped in, and on a unit diagonal
+// every |L_ik| stays <= 2 (= 1 / sqrt(1/4)).
+TEST(LdltKernel, ThresholdPivotingKeepsTheOrderAndBoundsL) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  MatrixXd A = MatrixXd::Identity(10, 10);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < i; ++j) A(i, j) = A(j, i) = u(rng);
+  std::vector<int> perm(10), scratch(10);
+  MatrixXd F = A;
+  EXPECT_EQ(pivotedLdlt(F.data(), 10, 10, 1e-13, perm.data(), scratch.data()), 10);
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(perm[i], i);
+  EXPECT_LT((reconstruct(F) - A).cwiseAbs().maxCoeff(), 1e-14);
+  int swapped = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    MatrixXd W, G;
+    VectorXd rhs;
+    randomMechanism(rng, 12, 14, W, rhs, &G);  // rows nearly dependent in pairs: small Schur diagonals
+    const VectorXd s = W.diagonal().cwiseSqrt().cwiseInverse();
+    W = s.asDiagonal() * W * s.asDiagonal();
+    F = W;
+    perm.assign(12, 0);
+    scratch.assign(12, 0);
+    ASSERT_EQ(pivotedLdlt(F.data(), 12, 12, 1e-13, perm.data(), scratch.data()), 12);
+    for (int i = 0; i < 12; ++i) swapped += perm[i] != i;
+    MatrixXd Wp(12, 12);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) Wp(i, j) = W(perm[i], perm[j]);
+    EXPECT_LT((reconstruct(F) - Wp).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LE(F.triangularView<Eigen::StrictlyLower>().toDenseMatrix().cwiseAbs().maxCoeff(), 2 + 1e-12);
+  }
+  EXPECT_GT(swapped, 0);  // the search did run
+}
+
 // Full rank, rows in blocks of 1 to 6: the direct solve meets the tolerance
 // in one solve with the factor, and is the exact answer -W^-1 b.
 TEST(EqualitySolve, FullRankExactInOneSolve) {

@@ -2,6 +2,7 @@
 // with partial pivoting, in place, no allocation.
 #include "dense_kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
@@ -76,14 +77,25 @@ void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
 int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
   for (int i = 0; i < n; ++i) perm[i] = i;
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
+  // Threshold pivoting: the next row in order is the pivot while its diagonal is
+  // at least kPivotThreshold of the largest initial diagonal, which bounds every
+  // remaining one (A is semidefinite: eliminating lowers the diagonals), so it
+  // is then at least that fraction of the largest remaining, and |L_ik| <=
+  // sqrt(A_ii / D_k) <= 1 / sqrt(kPivotThreshold) on a unit diagonal. Only
+  // below it the largest remaining diagonal is searched for and swapped in.
+  constexpr double kPivotThreshold = 0.25;
+  double max_diag = 0;
+  for (int i = 0; i < n; ++i) max_diag = std::max(max_diag, a(i, i));
+  const double accept = std::max(kPivotThreshold * max_diag, dropTol);
   for (int k = 0; k < n; ++k) {
     int p = k;
     double big = a(k, k);
-    for (int i = k + 1; i < n; ++i)
-      if (a(i, i) > big) {
-        big = a(i, i);
-        p = i;
-      }
+    if (!(big > accept))
+      for (int i = k + 1; i < n; ++i)
+        if (a(i, i) > big) {
+          big = a(i, i);
+          p = i;
+        }
     if (!(big > dropTol)) {  // the rows left depend on those before: out of the factor
       for (int j = k; j < n; ++j)
         for (int i = j; i < n; ++i) a(i, j) = 0;

@@ -18,11 +18,12 @@ void pivotedCholeskySolve(const double* L, int ld, int n, int rank, const int* p
 // In-place LDL^T with diagonal (complete) pivoting of the n x n symmetric
 // positive semidefinite A, its lower triangle only (read and written; the upper
 // is not touched): Pi^T A Pi = L D L^T, L unit lower triangular below the
-// diagonal, D on it, perm[k] = original index of pivot k. Each pivot is the
-// largest remaining diagonal; the first one at most dropTol stops it (the rows
-// left depend on those before them: every entry of what is left is at most
-// dropTol), and their D and L are set to 0. Returns the rank. nonzero: n
-// scratch.
+// diagonal, D on it, perm[k] = original index of pivot k. The next row in
+// order is the pivot while its diagonal is at least a quarter of A's largest
+// diagonal; else the largest remaining diagonal is; the first one at most
+// dropTol stops it (the rows left depend on those before them: every entry of
+// what is left is at most dropTol), and their D and L are set to 0. Returns the
+// rank. nonzero: n scratch.
 int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero);
 
 // x = A^+ rhs from that factor, the basic solution: dependent rows get 0. rhs

@@ -19,6 +19,17 @@ inline double dot6(const double* a, const double* b) {
   return (a[0] * b[0] + (a[1] * b[1] + a[2] * b[2])) + (a[3] * b[3] + (a[4] * b[4] + a[5] * b[5]));
 }
 
+// One row's piece of Y on a body, y = B g (B: the body's block of M^-1, g: the
+// row's piece of G, stride ld), as Eigen's 6 x 6 product forms it: each entry
+// summed over the block's columns in order from the first product, then added to
+// the zeroed column (+0.0). Less its exact +-0 terms (B's zeros), which change no
+// partial sum that is not zero, and a zero sum comes out +0 both ways.
+inline void applyBodyInverse(const StepWorkspace::BodyMassInverse& bi, const double* g, Eigen::Index ld,
+                             double* y) {
+  const double g3 = g[3 * ld], g4 = g[4 * ld], g5 = g[5 * ld];
+  for (int k = 0; k < 3; ++k) y[k] = bi.lin[k] * g[k * ld] + 0.0;
+  for (int k = 0; k < 3; ++k) y[3 + k] = ((bi.ang[k][0] * g3 + bi.ang[k][1] * g4) + bi.ang[k][2] * g5) + 0.0;
+}
 
 // W's rows i0 .. i0 + S - 1 of one block (and the columns they mirror into),
 // against every row up to the block's end: W_ij = sum over the block's bodies
@@ -84,9 +95,21 @@ void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diago
     }
   }
   const int n = ws.n;
+  // Ŵ = M^-1 (the projection's, or the step's without stiff elements, a copy), in
+  // the form bodies have: per body, its piece.
+  const bool is_mass_inverse = &iteration_inverse == &ws.mass_inverse || !ws.facts.stiff;
+  const bool by_body = block_diagonal && ws.mass_inverse_by_body && is_mass_inverse;
+  const Eigen::Index ldg = ws.G.outerStride();
   for (int i = from; i < r; ++i) {
     auto y = ws.Y.col(i).head(n);
     y.setZero();
+    if (by_body) {
+      for (int body : ws.row_bodies[i])
+        if (body != kGround)
+          applyBodyInverse(ws.body_mass_inverse[body], ws.G.data() + i + 6 * body * ldg, ldg,
+                           y.data() + 6 * body);
+      continue;
+    }
     for (int body : ws.row_bodies[i]) {
       if (body == kGround) continue;
       const Vec6 g = ws.G.row(i).segment<6>(6 * body).transpose();

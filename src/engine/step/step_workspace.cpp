@@ -164,6 +164,26 @@ void buildVelocityBasis(const Model& m, StepWorkspace& ws) {
   ws.BT = Eigen::MatrixXd::Zero(ws.basis.cols(), n);
 }
 
+// The bodies' blocks of M^-1 as StepWorkspace::BodyMassInverse, if they all
+// have its form: exact zeros off the translation diagonal and between
+// translation and rotation (what the mass matrix and its planar projection give).
+void splitMassInverse(StepWorkspace& ws) {
+  ws.body_mass_inverse.assign(ws.nbodies, StepWorkspace::BodyMassInverse{});
+  ws.mass_inverse_by_body = true;
+  for (int b = 0; b < ws.nbodies; ++b) {
+    const auto blk = ws.mass_inverse.block<6, 6>(6 * b, 6 * b);
+    StepWorkspace::BodyMassInverse& bi = ws.body_mass_inverse[b];
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) {
+        const bool kept = (r == c && r < 3) || (r >= 3 && c >= 3);
+        if (!kept && blk(r, c) != 0) ws.mass_inverse_by_body = false;
+      }
+    for (int k = 0; k < 3; ++k) bi.lin[k] = blk(k, k);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) bi.ang[r][c] = blk(3 + r, 3 + c);
+  }
+}
+
 // Constant mass matrix and its (planar-projected) inverse, which is also the
 // iteration matrix's inverse until the stiff elements change it; and the blocks
 // of the stiff groups' own iteration matrices.
@@ -175,6 +195,7 @@ void buildMassMatrix(const Model& m, StepWorkspace& ws) {
   if (!reducedInverse(ws.A, ws, ws.mass_inverse))
     throw std::runtime_error(m.source_file + ": mass matrix is not positive definite");
   ws.iteration_inverse = ws.mass_inverse;
+  splitMassInverse(ws);
   ws.group_A.clear();
   ws.group_inverse.clear();
   ws.group_factor_inverse.clear();
