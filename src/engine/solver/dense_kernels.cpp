@@ -142,30 +142,9 @@ void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, doubl
   for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
 }
 
-namespace {
-
-// The trailing update of columns c[0..N) by the pivot column l over rows
-// [lo, hi): c[t][i] -= l[i] * u[t], each entry as the one-column loop makes it.
-template <int N>
-void luUpdateColumns(double* const* c, const double* u, const double* __restrict l, int lo, int hi) {
-  double* __restrict c0 = c[0];
-  double* __restrict c1 = N > 1 ? c[1] : nullptr;
-  double* __restrict c2 = N > 2 ? c[2] : nullptr;
-  double* __restrict c3 = N > 3 ? c[3] : nullptr;
-  const double u0 = u[0], u1 = N > 1 ? u[1] : 0, u2 = N > 2 ? u[2] : 0, u3 = N > 3 ? u[3] : 0;
-  for (int i = lo; i < hi; ++i) {
-    const double li = l[i];
-    c0[i] -= li * u0;
-    if (N > 1) c1[i] -= li * u1;
-    if (N > 2) c2[i] -= li * u2;
-    if (N > 3) c3[i] -= li * u3;
-  }
-}
-
-}  // namespace
-
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a
-// pivot is zero or not finite.
+// pivot is zero or not finite. Built for AVX too, taken where the machine has it
+// (target_clones; no FMA: the same products and sums, the same bits).
 __attribute__((target_clones("avx", "default"))) bool luFactor(double* A, int ld, int n, int* piv) {
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   for (int k = 0; k < n; ++k) {
@@ -185,23 +164,12 @@ __attribute__((target_clones("avx", "default"))) bool luFactor(double* A, int ld
     const double inv = 1 / a(k, k);
     double* ck = &a(0, k);
     for (int i = k + 1; i < n; ++i) ck[i] *= inv;
-    // The columns whose row k is nonzero, four at a time (one pass over ck).
-    double* cols[4];
-    double u[4];
-    int pending = 0;
     for (int j = k + 1; j < n; ++j) {
       const double akj = a(k, j);
       if (akj == 0) continue;
-      cols[pending] = &a(0, j);
-      u[pending++] = akj;
-      if (pending == 4) {
-        luUpdateColumns<4>(cols, u, ck, k + 1, n);
-        pending = 0;
-      }
+      double* cj = &a(0, j);
+      for (int i = k + 1; i < n; ++i) cj[i] -= ck[i] * akj;
     }
-    if (pending == 3) luUpdateColumns<3>(cols, u, ck, k + 1, n);
-    if (pending == 2) luUpdateColumns<2>(cols, u, ck, k + 1, n);
-    if (pending == 1) luUpdateColumns<1>(cols, u, ck, k + 1, n);
   }
   return true;
 }
