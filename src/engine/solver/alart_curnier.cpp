@@ -100,11 +100,53 @@ double acResidual(const std::vector<ProblemBlock>& blocks, const double* P, cons
   return 0.5 * s;
 }
 
+namespace {
+
+// Rows r..r+2 of B W into J, column by column: each entry B(i, 0) W(r, j) +
+// B(i, 1) W(r + 1, j) + B(i, 2) W(r + 2, j), summed as Eigen's product of a
+// 3 x 3 by a 3 x m block sums it on SSE2 (rows 0 and 1 in a packet,
+// (t0 + t1) + t2; row 2 alone, t0 + (t1 + t2)): the same bits, signs of zero
+// aside. A row sums its nonzero terms only (the normal row has B(0, 0) alone, a
+// sticking tangent rhoT on the diagonal).
+void frictionalRows(const Eigen::Ref<const Eigen::MatrixXd>& W, int r, const Matrix3d& B, int m,
+                    Eigen::Ref<Eigen::MatrixXd> J) {
+  const Eigen::Index ldj = J.outerStride(), ldw = W.outerStride();
+  const double* w0 = W.data() + r;
+  for (int i = 0; i < 3; ++i) {
+    const double b0 = B(i, 0), b1 = B(i, 1), b2 = B(i, 2);
+    const int terms = (b0 != 0) + (b1 != 0) + (b2 != 0);
+    double* Jrow = J.data() + r + i;
+    if (terms == 0) {
+      for (int j = 0; j < m; ++j) Jrow[j * ldj] = 0;
+    } else if (terms == 1) {
+      const int k = b0 != 0 ? 0 : b1 != 0 ? 1 : 2;
+      const double bk = B(i, k);
+      for (int j = 0; j < m; ++j) Jrow[j * ldj] = bk * w0[k + j * ldw];
+    } else if (i < 2) {
+      for (int j = 0; j < m; ++j) {
+        const double* wc = w0 + j * ldw;
+        Jrow[j * ldj] = (b0 * wc[0] + b1 * wc[1]) + b2 * wc[2];
+      }
+    } else {
+      for (int j = 0; j < m; ++j) {
+        const double* wc = w0 + j * ldw;
+        Jrow[j * ldj] = b0 * wc[0] + (b1 * wc[1] + b2 * wc[2]);
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void acJacobian(const Eigen::Ref<const Eigen::MatrixXd>& W, const std::vector<ProblemBlock>& blocks,
                 const double* P, const double* U, const double* rho, const char* zeroRow,
                 double delta, Eigen::Ref<Eigen::MatrixXd> J) {
   const int m = int(J.rows());
-  J.setZero();
+  // Every row is written below when the blocks tile the m rows (they do for
+  // the problems the engine builds); otherwise the rows between are zero.
+  int tiled = 0;
+  for (const ProblemBlock& bl : blocks) tiled += bl.size;
+  if (tiled != m) J.setZero();
   double phi3[3];
   for (const ProblemBlock& bl : blocks) {
     const int r = bl.row;
@@ -112,7 +154,7 @@ void acJacobian(const Eigen::Ref<const Eigen::MatrixXd>& W, const std::vector<Pr
       const bool zt[2] = {zeroRow[r + 1] != 0, zeroRow[r + 2] != 0};
       Matrix3d A, B;
       acFrictional(P + r, U + r, bl.mu, rho[r], rho[r + 1], zt, phi3, &A, &B);
-      J.middleRows<3>(r).noalias() = B * W.block(r, 0, 3, m);
+      frictionalRows(W, r, B, m, J);
       J.block<3, 3>(r, r) += A;
       for (int c = 0; c < 3; ++c) J.col(r + c).segment<3>(r) += (delta * W(r + c, r + c)) * B.col(c);
       continue;
@@ -125,6 +167,7 @@ void acJacobian(const Eigen::Ref<const Eigen::MatrixXd>& W, const std::vector<Pr
         J.row(i) = rho[i] * W.row(i).head(m);
         J(i, i) += delta * rho[i] * W(i, i);
       } else {
+        J.row(i).setZero();
         J(i, i) = 1;
       }
     }

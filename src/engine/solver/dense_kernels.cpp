@@ -155,8 +155,9 @@ void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, doubl
 }
 
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a
-// pivot is zero or not finite.
-bool luFactor(double* A, int ld, int n, int* piv) {
+// pivot is zero or not finite. Built for AVX too, taken where the machine has it
+// (target_clones; no FMA: the same products and sums, the same bits).
+__attribute__((target_clones("avx", "default"))) bool luFactor(double* A, int ld, int n, int* piv) {
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   for (int k = 0; k < n; ++k) {
     int p = k;
@@ -185,7 +186,8 @@ bool luFactor(double* A, int ld, int n, int* piv) {
   return true;
 }
 
-void luSolve(const double* A, int ld, int n, const int* piv, double* x) {
+__attribute__((target_clones("avx", "default"))) void luSolve(const double* A, int ld, int n, const int* piv,
+                                                               double* x) {
   auto a = [&](int i, int j) { return A[i + std::size_t(j) * ld]; };
   for (int k = 0; k < n; ++k) std::swap(x[k], x[piv[k]]);
   for (int k = 0; k < n; ++k) {

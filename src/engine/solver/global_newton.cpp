@@ -20,6 +20,20 @@ constexpr double kNewtonDeltaMax = 1e-1;
 constexpr double kNewtonShortStep = 0.25;  // accepted step length below this: more delta
 constexpr double kNewtonMaxImpulse = 1e3;  // iterates bounded by this * impulse scale
 
+// y = W x over the m rows: each entry summed over the columns in order from +0,
+// as Eigen's matrix-vector product sums it (the same bits), in AVX where the
+// machine has it (no FMA: the same products and sums).
+__attribute__((target_clones("avx", "default"))) void timesW(const double* W, long ld, int m,
+                                                             const double* __restrict x,
+                                                             double* __restrict y) {
+  for (int i = 0; i < m; ++i) y[i] = 0;
+  for (int j = 0; j < m; ++j) {
+    const double xj = x[j];
+    const double* wc = W + j * ld;
+    for (int i = 0; i < m; ++i) y[i] += wc[i] * xj;
+  }
+}
+
 // Iterates are kept within kNewtonMaxImpulse times the impulse scale of the
 // problem (what stops each row alone, or the start): on problems without a
 // solution (jamming, b outside range(W) in position projection) the
@@ -48,7 +62,7 @@ bool newtonStep(const SolveProblem& pr, const Iterate& it, double delta, double 
   buf.d.head(m) = -buf.phi.head(m);
   luSolve(buf.J.data(), ld, m, buf.piv.data(), buf.d.data());
   if (!buf.d.head(m).allFinite()) return false;
-  buf.Wd.head(m).noalias() = pr.Wm * buf.d.head(m);
+  timesW(pr.W.data(), pr.W.outerStride(), m, buf.d.data(), buf.Wd.data());
   for (int ls = 0; ls < kLineSearchSteps; ++ls, t *= 0.5) {
     buf.Pt.head(m) = it.P.head(m) + t * buf.d.head(m);
     if (buf.Pt.head(m).cwiseAbs().maxCoeff() > cap) continue;
@@ -66,7 +80,7 @@ NewtonResult runNewton(const SolveProblem& pr, Iterate& it, const NewtonBudget& 
   SolverBuffers& buf = pr.buf;
   const int m = pr.m;
   NewtonResult res;
-  it.U.noalias() = pr.Wm * it.P.head(m);
+  timesW(pr.W.data(), pr.W.outerStride(), m, it.P.data(), it.U.data());
   it.U += pr.b.head(m);
   double f = acResidual(pr.blocks, it.P.data(), it.U.data(), buf.rho.data(), buf.zeroRow.data(), buf.phi.data());
   double hist[kNonMonotone];
@@ -89,7 +103,7 @@ NewtonResult runNewton(const SolveProblem& pr, Iterate& it, const NewtonBudget& 
     // more (Levenberg-like); a full step lets delta relax back.
     delta = t < kNewtonShortStep ? std::min(kNewtonDeltaMax, 1e3 * delta) : std::max(budget.delta0, 1e-2 * delta);
     it.P.head(m) = buf.Pt.head(m);
-    it.U.noalias() = pr.Wm * it.P.head(m);
+    timesW(pr.W.data(), pr.W.outerStride(), m, it.P.data(), it.U.data());
     it.U += pr.b.head(m);
     f = acResidual(pr.blocks, it.P.data(), it.U.data(), buf.rho.data(), buf.zeroRow.data(), buf.phi.data());
     for (int h = kNonMonotone - 1; h > 0; --h) hist[h] = hist[h - 1];
