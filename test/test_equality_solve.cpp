@@ -401,14 +401,14 @@ TEST(EqualityPath, NoReuseWithStiffElementsOrContacts) {
 }
 
 // The simulator on the double pendulum and the four-bar at dt 1e-4: every
-// velocity problem goes to the equality stage, the loop stays closed (1e-9 m),
+// velocity problem goes to the equality stage (the step's direct path), the loop stays closed (1e-9 m),
 // no energy is gained (the projection's energy is taken back), and no step
 // allocates once warm.
 TEST(EqualityPath, JointsOnlyScenesStepWithTheEqualityStage) {
   for (const char* scene : {"test/scenes/double_pendulum.urdf", "urdf/fourbar.urdf"}) {
     Simulator sim(loadScene(nscd_test::scenePath(scene)));
     const double E0 = sim.energy().total();
-    long equalities = 0, solves = 0;
+    long equalities = 0, solves = 0, direct = 0;
     double worst = 0, gain = -INFINITY;
     long allocations = 0;
     for (int k = 0; k < 5000; ++k) {
@@ -418,6 +418,7 @@ TEST(EqualityPath, JointsOnlyScenesStepWithTheEqualityStage) {
       const StepStats& st = sim.stats();
       equalities += st.solves_by_stage[static_cast<int>(SolverStage::Equalities)];
       for (int s : st.solves_by_stage) solves += s;
+      direct += st.direct_equality_solves;
       if (k % 50 == 0) {
         worst = std::max(worst, sim.constraintViolation());
         gain = std::max(gain, sim.energy().total() - E0);
@@ -427,8 +428,74 @@ TEST(EqualityPath, JointsOnlyScenesStepWithTheEqualityStage) {
                 "energy gain max %.2e J\n", scene, equalities, solves, worst, gain);
     EXPECT_EQ(equalities, solves) << scene;
     EXPECT_EQ(solves, 5000) << scene;
+    EXPECT_EQ(direct, 5000) << scene;  // every one by the step's direct path
     EXPECT_LT(worst, 1e-9) << scene;
     EXPECT_LT(gain, 1e-9) << scene;
     EXPECT_EQ(allocations, 0) << scene;
+  }
+}
+
+// The step's own direct solve (equality_step.cpp) against the friction-contact
+// solver's equality path, from the same state and rows, on four mechanisms
+// (open chains, a closed loop with redundant rows, a slider-crank): the same
+// arithmetic, so the impulses, velocities and reports agree bit for bit
+// (tolerance 0), over 50 steps of each.
+TEST(EqualityPath, DirectStepAnswerIsTheSolversBitForBit) {
+  for (const char* scene : {"urdf/pendulum.urdf", "test/scenes/double_pendulum.urdf", "urdf/fourbar.urdf",
+                            "urdf/slider_crank.urdf"}) {
+    StepHarness t(scene);
+    const double h = 1e-3;
+    for (int step = 0; step < 50; ++step) {
+      // The general path (the harness's velocity stage) ...
+      const SolverReport rep = t.velocityStage(h);
+      ASSERT_EQ(rep.stage, SolverStage::Equalities) << scene;
+      ASSERT_TRUE(rep.converged) << scene;
+      const int r = t.ws.rows;
+      const VectorXd P_general = t.ws.P.head(r), v_general = t.ws.vnew;
+      // ... and the direct one, on the same rows and free velocity.
+      t.ws.P.head(r).setConstant(7.0);  // no warm start is read
+      StepStats st;
+      ASSERT_TRUE(solveEqualityStep(t.m, t.ws, st)) << scene << " step " << step;
+      EXPECT_EQ(st.direct_equality_solves, 1);
+      EXPECT_EQ(st.solves_by_stage[static_cast<int>(SolverStage::Equalities)], 1);
+      EXPECT_EQ(st.iterations, rep.iteration_sum);
+      EXPECT_EQ(st.residual, rep.residual);
+      EXPECT_TRUE(st.converged);
+      EXPECT_EQ(t.ws.equality.factor_rows, r);
+      for (int i = 0; i < r; ++i) ASSERT_EQ(t.ws.P[i], P_general[i]) << scene << " row " << i;
+      for (int j = 0; j < t.ws.n; ++j) ASSERT_EQ(t.ws.vnew[j], v_general[j]) << scene << " dof " << j;
+      advanceState(t.m, h, t.ws, t.s);
+      trackJointPositions(t.m, t.s);
+    }
+  }
+}
+
+// The direct path is the step's for a model of ideal joints alone (counted in
+// StepStats::direct_equality_solves), never where contacts can join, and a
+// step an observer watches takes the general path (the observer sees its
+// problems) to the same state bit for bit.
+TEST(EqualityPath, DirectStepTakenAndItsFallbackAgrees) {
+  Simulator direct(loadScene(nscd_test::scenePath("urdf/fourbar.urdf")));
+  Simulator watched(loadScene(nscd_test::scenePath("urdf/fourbar.urdf")));
+  int seen = 0;
+  watched.setProblemObserver([&](const ProblemView&) { ++seen; });
+  for (int k = 0; k < 300; ++k) {
+    ASSERT_EQ(direct.step(), StepStatus::Ok);
+    ASSERT_EQ(watched.step(), StepStatus::Ok);
+    EXPECT_EQ(direct.stats().direct_equality_solves, 1);
+    EXPECT_EQ(watched.stats().direct_equality_solves, 0);
+    EXPECT_EQ(direct.stats().iterations, watched.stats().iterations);
+    EXPECT_EQ(direct.stats().residual, watched.stats().residual);
+  }
+  EXPECT_EQ(seen, 300);
+  for (size_t b = 0; b < direct.state().bodies.size(); ++b) {
+    EXPECT_EQ(direct.state().bodies[b].x, watched.state().bodies[b].x) << b;
+    EXPECT_EQ(direct.state().bodies[b].v, watched.state().bodies[b].v) << b;
+    EXPECT_EQ(direct.state().bodies[b].w, watched.state().bodies[b].w) << b;
+  }
+  Simulator journal(loadScene(nscd_test::scenePath("urdf/journal.urdf")));
+  for (int k = 0; k < 100; ++k) {
+    journal.step();
+    EXPECT_EQ(journal.stats().direct_equality_solves, 0);
   }
 }

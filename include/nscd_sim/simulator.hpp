@@ -124,6 +124,10 @@ struct StepStats {
   // schedule finished (SolverReport::stage; index: SolverStage), the rescues'
   // solves and those of the attempts a halving dropped included.
   std::array<int, kSolverStageCount> solves_by_stage{};
+  // Of those, the solves of a problem of bilateral rows alone that the step
+  // answered by its own LDLᵀ solve (no contact sources in the model), without
+  // the friction-contact solver (counted in solves_by_stage as Equalities).
+  int direct_equality_solves = 0;
 };
 
 // The rescues of a step whose friction-contact problem goes wrong, one ordered

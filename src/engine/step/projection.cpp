@@ -111,7 +111,13 @@ bool solvePass(const State& s, StepWorkspace& ws, bool reuse, bool jacobian, con
     else
       ws.b[blk.row] = blk.contact.cp.gap;
   }
-  ws.projection_reused_factor = reuse && ws.solver.solveEqualitiesAgain(ws.b.head(r), ws.P.head(r));
+  // The step's own factor (equality_step.cpp) where it took the direct path, else the solver's.
+  if (reuse && ws.equality.factor_rows == r) {
+    solveWithEqualityFactor(ws, r, ws.b.data(), ws.P.data());
+    ws.projection_reused_factor = true;
+  } else {
+    ws.projection_reused_factor = reuse && ws.solver.solveEqualitiesAgain(ws.b.head(r), ws.P.head(r));
+  }
   if (ws.projection_reused_factor) return true;
   if (!jacobian) return false;  // the caller gathers G and comes back
   assembleDelassus(ws.mass_inverse, true, ws, 0, r);  // M^-1: one block per body

@@ -56,10 +56,13 @@ void gatherStepRows(const Model& m, double h, State& s, StepWorkspace& ws) {
 void solveStepProblem(const Model& m, double h, const State& s, bool may_halve, ResolveObserver observe,
                       StepWorkspace& ws, StepStats& st) {
   st.rows = ws.rows;
+  ws.equality.factor_rows = 0;
   if (ws.rows == 0) {
     ws.vnew = ws.vfree;
     return;
   }
+  // Bilateral rows alone: one LDLᵀ solve (an observer sees the general path's problems).
+  if (!hasContactSources(ws) && !observe.fn && solveEqualityStep(m, ws, st)) return;
   int kept = 0, iterations = 0;
   for (observe.round = 0;; ++observe.round) {
     assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, kept, ws.rows);

@@ -25,6 +25,7 @@ double largerChange(double a, double b) { return std::abs(b) > std::abs(a) ? b :
 void addDroppedAttempt(const StepStats& attempt, StepStats& total) {
   total.iterations += attempt.iterations;
   for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += attempt.solves_by_stage[s];
+  total.direct_equality_solves += attempt.direct_equality_solves;
 }
 
 void startHalvedStep(const StepStats& attempt, StepStats& total, StepOutputs& acc) {
@@ -41,6 +42,7 @@ void addSubstep(const StepStats& sub, int level, const StepOutputs& out, StepSta
                 StepOutputs& acc) {
   total.iterations += sub.iterations;
   for (int s = 0; s < kSolverStageCount; ++s) total.solves_by_stage[s] += sub.solves_by_stage[s];
+  total.direct_equality_solves += sub.direct_equality_solves;
   if (!(sub.residual <= total.residual)) total.residual = sub.residual;  // NaN stays
   total.converged = total.converged && sub.converged;
   total.active_contacts = sub.active_contacts;

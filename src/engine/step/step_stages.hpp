@@ -118,6 +118,17 @@ void buildFrictionContactProblem(const Model& m, const State& s, double h, int k
 // Takes the Newton impact shift back out of b: the plastic problem.
 void removeRestitution(StepWorkspace& ws);
 
+// ---- 3-4 for bilateral rows alone (equality_step.cpp): with no contact
+// sources every row is an ideal joint's or a prescribed motion's, and the
+// problem is W P = -b: W (rows [0, ws.rows)), b and one LDLᵀ solve, its factor
+// kept in ws.equality; the impulses applied and st filled as the general path
+// does (SolverStage::Equalities, st.direct_equality_solves counted). False,
+// nothing in st changed, where that answer is not the solver's (a non-finite
+// entry, a residual above the tolerance): the general path then takes the step.
+bool solveEqualityStep(const Model& m, StepWorkspace& ws, StepStats& st);
+// P = -W⁺ rhs (r rows; zero and dependent rows 0) from ws.equality's factor.
+void solveWithEqualityFactor(StepWorkspace& ws, int r, const double* rhs, double* P);
+
 // ---- 4b. solve (contact_solve.cpp): the solver's options for a step, and
 // v+ = v_free + Ŵ G^T P into ws.vnew.
 SolverOptions solverOptions(const Settings& set);

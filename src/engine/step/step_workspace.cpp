@@ -126,6 +126,12 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.Y = Eigen::MatrixXd::Zero(n, mr);
   ws.W = Eigen::MatrixXd::Zero(mr, mr);
   ws.b = ws.P = Eigen::VectorXd::Zero(mr);
+  ws.equality.L = Eigen::MatrixXd::Zero(mr, mr);
+  ws.equality.scale = ws.equality.U = ws.equality.correction = Eigen::VectorXd::Zero(mr);
+  ws.equality.x = Eigen::VectorXd::Zero(2 * mr);
+  ws.equality.rows.assign(mr, 0);
+  ws.equality.perm.assign(2 * mr, 0);
+  ws.equality.factor_rows = 0;
   ws.blocks.reserve(mr);
   // Projection passes add up to kRingFacets facets per penetrating ring.
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());

@@ -91,6 +91,19 @@ struct ModelFacts {
   bool rows_follow_poses = false;
 };
 
+// The LDLᵀ factor of a step's bilateral W (equality_step.cpp): the rows not
+// zero (rows[0 .. ne)), W on them scaled to a unit diagonal by `scale`
+// (1 / sqrt(W_ii)) and factored in the pivoting order `perm` (and its scratch);
+// factor_rows: the step's rows while the factor stands (the projection's first
+// pass may take it), else 0.
+struct EqualityFactor {
+  Eigen::MatrixXd L;
+  Eigen::VectorXd scale, x, U, correction;
+  std::vector<int> rows, perm;
+  int ne = 0;
+  int factor_rows = 0;
+};
+
 class StepWorkspace {
  public:
   ModelFacts facts;
@@ -158,6 +171,7 @@ class StepWorkspace {
   Eigen::VectorXd b, P;
   Eigen::VectorXd P_start;  // the warm start, kept only for a ProblemObserver
   FrictionContactSolver solver;
+  EqualityFactor equality;  // a step of bilateral rows alone: its direct solve
   int rows = 0;
   // The rows above as a memo of the poses they were gathered at (keyRowsOnPoses;
   // models whose rows follow the poses): the projection's last check is the next

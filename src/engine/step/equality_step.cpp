@@ -1,0 +1,166 @@
+// Stages 3-4 for a step whose rows are all bilateral (a model without contact
+// pairs and clearance joints: ideal joints and prescribed motions): W P = -b,
+// one LDLᵀ solve, without the friction-contact problem's set-up and solver.
+// The same arithmetic as the solver's equality-only path (problem_setup.cpp's
+// prepareEqualityProblem, solver_stages.cpp's equalityStage) bit for bit, so the
+// answer is the one the general path gives; a problem it does not solve (rows
+// so nearly dependent that the basic solution leaves a residual above the
+// tolerance, an inconsistent system, a non-finite entry) is left to that path.
+// The factor stays in ws.equality for the projection's first pass
+// (velocityFactorReusable).
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "solver/dense_kernels.hpp"
+#include "step_stages.hpp"
+
+namespace nscd {
+namespace {
+
+// As problem_setup.cpp: a W diagonal at most this * the largest is a zero row
+// (P = 0); a scaled pivot at most kScaledDrop ends the factor (dependent rows).
+constexpr double kRelZeroDiag = 1e-13;
+constexpr double kScaledDrop = 1e-13;
+// As solver_schedule.cpp: solves with the factor after the first, while the
+// residual is above the tolerance.
+constexpr int kRefinements = 2;
+
+// b = G v_free minus the targets, plus an ideal joint's workless average: the
+// sums friction_contact_problem.cpp forms (each row over its bodies' columns in
+// column order, from the first product). False if v_free is not finite (the
+// general path takes the dense product then).
+bool bilateralFreeVelocities(double joint_average, StepWorkspace& ws) {
+  if ((ws.vfree.array() * 0.0).sum() != 0) return false;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
+    if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0])) std::swap(bodies[0], bodies[1]);
+    const bool average = blk.joint >= 0 && joint_average > 0;
+    for (int k = 0; k < blk.size; ++k) {
+      const int i = blk.row + k;
+      double c = 0, ck = 0;
+      bool first = true;
+      for (int body : bodies) {
+        if (body == kGround) continue;
+        for (int j = 6 * body; j < 6 * body + 6; ++j) {
+          const double g = ws.G(i, j);
+          c += g * ws.vfree[j];
+          if (average) {
+            ck = first ? g * ws.vk[j] : ck + g * ws.vk[j];
+            first = false;
+          }
+        }
+      }
+      ws.b[i] = c * 1.0 + 0.0;
+      ws.b[i] -= blk.target[k];
+      if (average) ws.b[i] += joint_average * ck;
+    }
+  }
+  return true;
+}
+
+// The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
+bool factorRows(StepWorkspace& ws, int r) {
+  EqualityFactor& f = ws.equality;
+  const double* W = ws.W.data();
+  const Eigen::Index ldw = ws.W.outerStride();
+  double maxDiag = 0;
+  for (int i = 0; i < r; ++i) {
+    if (!std::isfinite(W[i * ldw + i])) return false;
+    maxDiag = std::max(maxDiag, W[i * ldw + i]);
+  }
+  if ((ws.W.topLeftCorner(r, r).array() * 0.0).sum() != 0) return false;
+  const double zeroDiag = kRelZeroDiag * maxDiag;
+  int ne = 0;
+  for (int i = 0; i < r; ++i)
+    if (W[i * ldw + i] > zeroDiag) f.rows[ne++] = i;
+  f.ne = ne;
+  double* s = f.scale.data();
+  for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W[f.rows[a] * ldw + f.rows[a]]);
+  const Eigen::Index ldl = f.L.outerStride();
+  for (int c = 0; c < ne; ++c) {
+    const double* wc = W + f.rows[c] * ldw;
+    double* lc = f.L.data() + c * ldl;
+    const double sc = s[c];
+    if (ne == r) {
+      for (int i = c; i < ne; ++i) lc[i] = wc[i] * (s[i] * sc);
+    } else {
+      for (int i = c; i < ne; ++i) lc[i] = wc[f.rows[i]] * (s[i] * sc);
+    }
+  }
+  pivotedLdlt(f.L.data(), int(ldl), ne, kScaledDrop, f.perm.data(), f.perm.data() + ne);
+  return true;
+}
+
+// U = W P + b over the nonzero P_j, and the solver's error sqrt(|U|^2) / max(1, |b|)
+// summed block by block (errorFromU).
+double residualOf(StepWorkspace& ws, int r, double bnorm) {
+  double* U = ws.equality.U.data();
+  const double* W = ws.W.data();
+  const Eigen::Index ldw = ws.W.outerStride();
+  for (int i = 0; i < r; ++i) U[i] = ws.b[i];
+  for (int j = 0; j < r; ++j) {
+    const double pj = ws.P[j];
+    if (pj == 0) continue;
+    const double* wj = W + j * ldw;
+    for (int i = 0; i < r; ++i) U[i] += wj[i] * pj;
+  }
+  double sum = 0;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    double s = 0;
+    for (int k = blk.row; k < blk.row + blk.size; ++k) s += U[k] * U[k];
+    sum += s;
+  }
+  return std::sqrt(sum) / std::max(1.0, bnorm);
+}
+
+}  // namespace
+
+void solveWithEqualityFactor(StepWorkspace& ws, int r, const double* rhs, double* P) {
+  EqualityFactor& f = ws.equality;
+  const int ne = f.ne;
+  const double* s = f.scale.data();
+  double* x = f.x.data();
+  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[f.rows[a]];
+  ldltSolve(f.L.data(), int(f.L.outerStride()), ne, f.perm.data(), x, x + ne);
+  for (int i = 0; i < r; ++i) P[i] = 0;
+  for (int a = 0; a < ne; ++a) P[f.rows[a]] = s[a] * x[a];
+}
+
+bool solveEqualityStep(const Model& m, StepWorkspace& ws, StepStats& st) {
+  const int r = ws.rows;
+  ws.equality.factor_rows = 0;
+  const double theta = m.settings.theta;
+  const double joint_average = m.settings.joint_work == JointWork::None ? (1 - theta) / theta : 0.0;
+  if (!bilateralFreeVelocities(joint_average, ws)) return false;
+  assembleDelassus(ws.iteration_inverse, !ws.facts.stiff, ws, 0, r);
+  if (!factorRows(ws, r)) return false;
+  const double bnorm = ws.b.head(r).norm();
+  if (!std::isfinite(bnorm)) return false;
+  const double tol = m.settings.tolerance;
+  double* P = ws.P.data();
+  solveWithEqualityFactor(ws, r, ws.b.data(), P);
+  double err = residualOf(ws, r, bnorm);
+  int solves = 1;
+  // Refinement: the correction of the residual U (U = 0 is the answer).
+  for (int k = 0; k < kRefinements && !(err <= tol); ++k) {
+    double* correction = ws.equality.correction.data();
+    solveWithEqualityFactor(ws, r, ws.equality.U.data(), correction);
+    for (int i = 0; i < r; ++i) P[i] += correction[i];
+    err = residualOf(ws, r, bnorm);
+    ++solves;
+  }
+  if (!(err <= tol) || !ws.P.head(r).allFinite()) return false;  // the general path's
+  ws.equality.factor_rows = r;
+  st.active_contacts = 0;
+  st.iterations = solves;
+  st.residual = err;
+  st.converged = true;
+  st.rows = r;
+  ++st.solves_by_stage[static_cast<int>(SolverStage::Equalities)];
+  ++st.direct_equality_solves;
+  applyImpulses(ws);
+  return true;
+}
+
+}  // namespace nscd
