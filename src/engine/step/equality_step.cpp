@@ -32,30 +32,7 @@ constexpr int kRefinements = 2;
 // general path takes the dense product then).
 bool bilateralFreeVelocities(double joint_average, StepWorkspace& ws) {
   if ((ws.vfree.array() * 0.0).sum() != 0) return false;
-  for (const ConstraintBlock& blk : ws.blocks) {
-    int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
-    if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0])) std::swap(bodies[0], bodies[1]);
-    const bool average = blk.joint >= 0 && joint_average > 0;
-    for (int k = 0; k < blk.size; ++k) {
-      const int i = blk.row + k;
-      double c = 0, ck = 0;
-      bool first = true;
-      for (int body : bodies) {
-        if (body == kGround) continue;
-        for (int j = 6 * body; j < 6 * body + 6; ++j) {
-          const double g = ws.G(i, j);
-          c += g * ws.vfree[j];
-          if (average) {
-            ck = first ? g * ws.vk[j] : ck + g * ws.vk[j];
-            first = false;
-          }
-        }
-      }
-      ws.b[i] = c * 1.0 + 0.0;
-      ws.b[i] -= blk.target[k];
-      if (average) ws.b[i] += joint_average * ck;
-    }
-  }
+  rowFreeVelocities(joint_average, ws);  // every block bilateral here
   return true;
 }
 

@@ -11,22 +11,14 @@
 
 namespace nscd {
 
-namespace {
-
-// b = G v_free, the local free velocities of the rows, and a bilateral row's whole
-// b (its target, an ideal joint's workless average) in the same pass. Returns
-// false where it took the dense product (a non-finite v_free): the bilateral
-// terms are then still to add (setBilateralBlock).
-bool localFreeVelocities(double joint_average, StepWorkspace& ws) {
-  if ((ws.vfree.array() * 0.0).sum() != 0) {  // an entry not finite (friction_contact_solver.cpp)
-    ws.b.head(ws.rows).noalias() = ws.G.topRows(ws.rows) * ws.vfree;
-    return false;
-  }
-  // b = G v_free over each row's nonzero columns only (its block's bodies, in column
+// b = G v_free of every row, and a bilateral row's target and an ideal joint's
+// workless average, for a finite v_free (the direct equality step shares it).
+void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
+  // Over each row's nonzero columns only (its block's bodies, in column
   // order): the sum Eigen's gemv forms, less its exact +-0 terms (G is zero outside
   // those columns, clearConstraintRows), which change no partial sum that is not
   // zero; a zero sum comes out +0 both ways (c * 1 + 0, as gemv adds it to the
-  // zeroed b). A non-finite v_free (0 * inf) takes the dense product (above).
+  // zeroed b). A non-finite v_free (0 * inf) is the callers' case (the dense product).
   // A joint's G_i v_k (the workless average) over the same columns, from the first
   // product on: Eigen's dot of the whole row, left to right from its first product,
   // less the same +-0 terms; where it is zero its sign may differ, but it is then
@@ -59,6 +51,20 @@ bool localFreeVelocities(double joint_average, StepWorkspace& ws) {
       if (average) ws.b[i] += joint_average * ck;
     }
   }
+}
+
+namespace {
+
+// b = G v_free, the local free velocities of the rows, and a bilateral row's whole
+// b (its target, an ideal joint's workless average) in the same pass. Returns
+// false where it took the dense product (a non-finite v_free): the bilateral
+// terms are then still to add (setBilateralBlock).
+bool localFreeVelocities(double joint_average, StepWorkspace& ws) {
+  if ((ws.vfree.array() * 0.0).sum() != 0) {  // an entry not finite (friction_contact_solver.cpp)
+    ws.b.head(ws.rows).noalias() = ws.G.topRows(ws.rows) * ws.vfree;
+    return false;
+  }
+  rowFreeVelocities(joint_average, ws);
   return true;
 }
 

@@ -117,6 +117,9 @@ void buildFrictionContactProblem(const Model& m, const State& s, double h, int k
                                  StepWorkspace& ws, StepStats& st);
 // Takes the Newton impact shift back out of b: the plastic problem.
 void removeRestitution(StepWorkspace& ws);
+// b = G v_free of every row over its bodies' columns (a finite v_free), with a
+// bilateral row's target and an ideal joint's workless average (joint_average > 0).
+void rowFreeVelocities(double joint_average, StepWorkspace& ws);
 
 // ---- 3-4 for bilateral rows alone (equality_step.cpp): with no contact
 // sources every row is an ideal joint's or a prescribed motion's, and the
