@@ -15,7 +15,6 @@
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "physics_scenes.hpp"
-#include "test_support.hpp"
 
 using namespace nscd;
 using namespace nscd_test;
@@ -256,37 +255,6 @@ TEST(StepControl, FourBarErrorBelowToleranceAgainstConvergedReference) {
 // asserted below a fifth of the tolerance. (Plain steps of h/512 were not
 // converged enough for the extrapolated answers: their own error is ~5
 // tolerances on the four-bar.)
-// The clearance pendulum (urdf/clearance_pendulum.urdf): its journal falls through
-// the play and lands on the bearing at 3.2 ms, inside the first steps of 1 ms. The
-// impact's velocity error (O(substep)) lasts; counted as a displacement over the
-// step (times h) it went unseen, and the arm ran 1.8e-3 m/s off: 8.6e-5 m at 50
-// ms at every tolerance from 1e-2 to 1e-5. Against fixed steps of 1e-6 s (their
-// own error ~1e-7 m: docs/work_precision.md), at rtol = atol = 1e-3 and 1e-4.
-TEST(StepControl, ClearancePendulumImpactErrorFollowsTheTolerance) {
-  const double duration = 0.05;
-  auto run = [&](const std::vector<SettingOverride>& o) {
-    Simulator sim(loadScene(nscd_test::scenePath("urdf/clearance_pendulum.urdf"), o));
-    const double until = duration;
-    long k = 0;
-    while (!runFinished(sim, k, duration)) {
-      ++k;
-      if (sim.model().settings.step_control == StepControl::Adaptive) sim.planStep(until);
-      sim.step();
-    }
-    EXPECT_NEAR(sim.state().t, duration, 1e-12);
-    return sim.state().bodies[0].x;
-  };
-  const Vec3 ref = run({{"dt", "1e-6", "test"}});
-  for (double tol : {1e-3, 1e-4}) {
-    const Vec3 x = run(adaptive(tol, 1e-3));
-    const double err = (x - ref).norm();
-    std::printf("[ figures  ] clearance pendulum %g s, tol %g: arm position error vs dt 1e-6: %.3g m\n", duration, tol,
-                err);
-    // Before: about 8.6e-5 m at both (1.8e-3 m/s over 47 ms); now 1.9e-6 and 1.5e-6 m.
-    EXPECT_LT(err, 1e-5) << "rtol = atol = " << tol;
-  }
-}
-
 TEST(StepControl, LocalErrorBelowTolerance) {
   const double tol = 1e-6;
   const std::vector<std::pair<std::string, std::string>> scenes = {

@@ -122,19 +122,10 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
   a.rotation_length.resize(m.bodies.size());
   for (size_t i = 0; i < m.bodies.size(); ++i) a.rotation_length[i] = rotationLength(m, static_cast<int>(i));
   a.slot_mu.assign(ws.facts.contact_slots, 0.0);
-  a.slot_bodies.assign(ws.facts.contact_slots, {kGround, kGround});
-  a.held.assign(m.bodies.size(), 0);
   for (int slot = 0; slot < ws.facts.contact_slots; ++slot) {
     const int base = ws.facts.contact_slot_base_clearance;
-    if (slot < base) {
-      const ContactPair& c = m.contacts[slot / kMaxPointsPerPair];
-      a.slot_mu[slot] = c.mu;
-      a.slot_bodies[slot] = {c.a.body, c.b.body};
-    } else {
-      const ClearanceJoint& c = m.clearance_joints[(slot - base) / kMaxClearancePoints];
-      a.slot_mu[slot] = c.mu;
-      a.slot_bodies[slot] = {c.journal_body, c.bearing_body};
-    }
+    a.slot_mu[slot] = slot < base ? m.contacts[slot / kMaxPointsPerPair].mu
+                                  : m.clearance_joints[(slot - base) / kMaxClearancePoints].mu;
   }
 }
 
@@ -183,7 +174,6 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
     if (s == StepStatus::NonFinite) return s;
     if (s == StepStatus::NotConverged) worst = s;
     event = event || stepHadEvent(out_->stats) || !sameContactModes(a.slot_mu, a.start, state_);
-    a.impact = a.impact || freeImpact(a.slot_mu, a.slot_bodies, a.held, a.start, state_);
     addForces(*out_, 1.0 / n, forces);
     if (i > 1) gatherStats(total, out_->stats);
     total = out_->stats;
@@ -196,13 +186,7 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
 // changed mode, velocities jump: the paths' velocities differ by O(1) whenever
 // one has met the event and the other not yet, however short the step. Their
 // difference then counts as the displacement it makes over the step (weight h),
-// which a shorter step does reduce: the event is located in time. Not at an
-// impact of bodies in flight (freeImpact): the impact lands somewhere inside a
-// substep, the velocity after it errs by O(substep) (gravity's impulse over the
-// part of the substep before it), and that error lasts: the clearance
-// pendulum's journal landing at 3.2 ms in a step of 1 ms left its arm 1.8e-3
-// m/s off for the rest of the run, 1.9e-4 m after 0.2 s at every tolerance
-// from 1e-2 to 1e-5. The velocities count at weight 1 there.
+// which a shorter step does reduce: the event is located in time.
 StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& error, bool& event,
                                           long& iterations) {
   AdaptiveStepWorkspace& a = *adaptive_;
@@ -211,7 +195,6 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
   // The coarse path (kept in a.coarse) and the fine one (left in state_).
   auto takePaths = [&]() {
     bool coarse_event = false, fine_event = false;
-    a.impact = false;
     state_ = a.start;  // same sizes: no allocation
     coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
     a.coarse = state_;
@@ -220,9 +203,7 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
     fine = takeAdaptivePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event, iterations);
     event = coarse_event || fine_event;
     const bool finite = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite;
-    // Except at an impact of bodies in flight, whose velocity error persists.
-    const double velocity_weight = event && !a.impact ? h : 1.0;
-    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, velocity_weight, a.rotation_length)
+    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
                    : INFINITY;
   };
   a.order = 2;
@@ -288,7 +269,6 @@ StepStatus Simulator::stepAdaptive() {
   const double t0 = state_.t;
   a.start = state_;  // same sizes: no allocation
   a.end_command = state_.commands;
-  markHeldBodies(a.slot_mu, a.slot_bodies, a.start, a.held);
 
   long iterations = 0;
   int rejected = 0;

@@ -18,7 +18,6 @@
 //   adaptive_step.cpp         Simulator::stepAdaptive and planStep
 #pragma once
 
-#include <array>
 #include <vector>
 
 #include "step_workspace.hpp"
@@ -33,9 +32,6 @@ struct AdaptiveStepWorkspace {
   std::vector<double> end_command;    // the commands at the end of the planned step
   StepOutputs coarse_out, fine_out;  // the paths' forces (averaged) and stats
   std::vector<double> slot_mu;       // friction coefficient of each warm-start slot
-  std::vector<std::array<int, 2>> slot_bodies;  // the two bodies of each warm-start slot (kGround: none)
-  std::vector<char> held;            // per body: a closed contact on it at the step's start
-  bool impact = false;               // a path of the attempt had a freeImpact
   std::vector<double> rotation_length;  // per body (m): rotationLength
   // The extrapolation tableau of a smooth step (Settings::max_order > 2): row[k]
   // the bodies of T_{j,k} for the last level j taken; cur and tmp scratch.
@@ -84,15 +80,6 @@ double rotationLength(const Model& m, int body);
 bool sameContactModes(const std::vector<double>& slot_mu, const State& a, const State& b);
 // True if every contact slot is open in s (inactive, or no normal impulse).
 bool contactsOpen(const std::vector<double>& slot_mu, const State& s);
-// held[b] <- whether a contact slot closed in s (a normal impulse) touches body b.
-void markHeldBodies(const std::vector<double>& slot_mu, const std::vector<std::array<int, 2>>& slot_bodies,
-                    const State& s, std::vector<char>& held);
-// True if a contact open in `start` is closed in `now` and none of its bodies was
-// held by a closed contact in `start` (held: markHeldBodies of start): an impact
-// of bodies in flight. Its velocity error (the impact placed somewhere in a
-// substep, O(h)) persists in the motion after it (docs/step_control.md).
-bool freeImpact(const std::vector<double>& slot_mu, const std::vector<std::array<int, 2>>& slot_bodies,
-                const std::vector<char>& held, const State& start, const State& now);
 // True if the step's stats show a nonsmooth event or a rescue: an unsolved
 // problem, contacts closed by the answer, a halving, a plastic or frictionless fallback, scaled impulses.
 bool stepHadEvent(const StepStats& st);

@@ -116,27 +116,6 @@ bool contactsOpen(const std::vector<double>& slot_mu, const State& s) {
   return true;
 }
 
-void markHeldBodies(const std::vector<double>& slot_mu, const std::vector<std::array<int, 2>>& slot_bodies,
-                    const State& s, std::vector<char>& held) {
-  std::fill(held.begin(), held.end(), 0);
-  for (size_t slot = 0; slot < slot_mu.size(); ++slot)
-    if (slotMode(slot_mu[slot], s, slot) != Mode::Open)
-      for (int b : slot_bodies[slot])
-        if (b != kGround) held[b] = 1;
-}
-
-bool freeImpact(const std::vector<double>& slot_mu, const std::vector<std::array<int, 2>>& slot_bodies,
-                const std::vector<char>& held, const State& start, const State& now) {
-  for (size_t slot = 0; slot < slot_mu.size(); ++slot) {
-    if (slotMode(slot_mu[slot], start, slot) != Mode::Open || slotMode(slot_mu[slot], now, slot) == Mode::Open)
-      continue;
-    bool free = true;
-    for (int b : slot_bodies[slot]) free = free && (b == kGround || !held[b]);
-    if (free) return true;
-  }
-  return false;
-}
-
 bool stepHadEvent(const StepStats& st) {
   return !st.converged || st.late_contacts > 0 || st.substeps > 1 || st.plastic_fallback || st.plastic_retry ||
          st.longer_solve || st.frictionless_fallback || st.energy_capped ||
