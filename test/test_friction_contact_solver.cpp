@@ -1162,3 +1162,36 @@ TEST(SolverStage, NamesAreDistinctSnakeCase) {
   EXPECT_EQ(int(names.size()), kSolverStageCount);
   EXPECT_EQ(std::string(solverStageName(SolverStage::ConeFixedPoint)), "cone_fixed_point");
 }
+
+// The planar slider-crank at h = 2e-6, tolerance 1e-8, the step from
+// t = 0.028916 (`nscd_run urdf/slider_crank.urdf --dt 2e-6 --duration 0.0290
+// --set tolerance=1e-8 --set planar=xy --dump-problems D --dump-when all`,
+// step 14459): |b| = 14.2 (the corners slide at 7.09 m/s). From the run's warm
+// start the Newton stage used to stop at a normalised error of 8.1e-9 with one
+// corner pulling, P_N = -1.15e-7 N s, holding it at U_N = 0 while the others
+// part at 2.1e-4 m/s; the plastic rescue took that answer back as its warm start
+// and kept it. A pull is no answer of the contact law: every contact of an
+// accepted answer has P_N >= -tolerance, and the answer is the one a cold solve
+// finds (all four corners free).
+TEST(SolverError, AnAcceptedAnswerHasNoPull) {
+  for (const bool cold : {false, true}) {
+    const StoredSolve x = solveStored("slider_crank_planar_dt2e-6_step14459.txt", 2000, cold);
+    ASSERT_EQ(x.p.W.rows(), 27);
+    EXPECT_TRUE(x.r.converged) << cold << " " << x.r.residual;
+    EXPECT_LE(solverError(x.p.W, x.p.b, x.P, x.p.blocks), 1e-8) << cold;
+    for (const ProblemBlock& bl : x.p.blocks)
+      if (bl.kind != BlockKind::Bilateral) EXPECT_GE(x.P(bl.row), -1e-8) << cold << " row " << bl.row;
+    // The answer with the pull (the file's P) fails the tolerance by its error.
+    EXPECT_GT(solverError(x.p.W, x.p.b, x.p.P, x.p.blocks), 1e-8);
+    // A warm start that pulls is no answer either (the plastic rescue's case):
+    // solved again from it, the pull goes.
+    FrictionContactSolver s;
+    SolverOptions o;
+    o.tolerance = 1e-8;
+    Eigen::VectorXd P = x.p.P;
+    const SolverReport r = s.solve(x.p.W, x.p.b, x.p.blocks, o, P);
+    EXPECT_NE(r.stage, SolverStage::WarmStart);
+    EXPECT_TRUE(r.converged);
+    EXPECT_GE(P(15), -1e-8);
+  }
+}

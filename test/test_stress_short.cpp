@@ -152,7 +152,8 @@ TEST(StressShort, LateContactsMayCloseTheirGap) {
 // crosses its bearing within one step, so contacts on both sides of it meet in
 // one problem under Newton's law; 939's have no solution (not strictly feasible;
 // neither Siconos's NSGS, NSN-AC nor PROX solves them). In whole steps they leave
-// 12 and 2 steps unsolved (16 and 11 before the proximal loop was over-relaxed);
+// 1 and 1 steps unsolved (12 and 2 before the solver refused answers that pull,
+// 16 and 11 before the proximal loop was over-relaxed);
 // in halves, none, with no energy gain, the same
 // penetration bound and (for these) no fallback left.
 TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
@@ -163,7 +164,7 @@ TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
     const std::string why = reproduce(halved[i].c, 1000);
     ASSERT_EQ(whole[i].m.status, "ok") << why;
     ASSERT_EQ(halved[i].m.status, "ok") << why;
-    EXPECT_GE(whole[i].m.unconverged_steps, 2) << why << ": pick a case whole steps leave unsolved";
+    EXPECT_GE(whole[i].m.unconverged_steps, 1) << why << ": pick a case whole steps leave unsolved";
     EXPECT_EQ(halved[i].m.unconverged_steps, 0) << why;
     EXPECT_GT(halved[i].m.halved_steps, 0) << why;
     EXPECT_LE(halved[i].m.substeps_max, 16) << why;

@@ -105,8 +105,10 @@ struct SolverReport {
   SolverStage stage = SolverStage::Failed;  // the stage that gave the answer
 };
 
-// Siconos-style error: sqrt(sum over blocks of |P - proj_K(P - Uhat)|^2
-// (+ |U|^2 for bilateral rows)) / max(1, |b|).
+// Siconos-style error: sqrt(sum over blocks of e_c^2 (+ |U|^2 for bilateral
+// rows)) / max(1, |b|), e_c = |P - proj_K(P - Uhat)| of a contact, raised to
+// max(1, |b|) |P_N| if P_N < 0: a pull is no answer of the contact law, so an
+// answer within a tolerance has P_N >= -tolerance on every contact, whatever |b|.
 double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
                    const Eigen::Ref<const Eigen::VectorXd>& b,
                    const Eigen::Ref<const Eigen::VectorXd>& P,

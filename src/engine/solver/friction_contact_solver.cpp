@@ -29,17 +29,25 @@ int problemRows(const std::vector<ProblemBlock>& blocks) {
   return m;
 }
 
-// Squared error of one block given its U (see solverError).
-double blockError2(const ProblemBlock& bl, const double* P, const double* U) {
+// A pull (P_N < 0) is no answer of the contact law, however small it is
+// against |b|: the block's error is at least the pull itself, unnormalised
+// (scale = max(1, |b|), the error's normalisation), so an accepted answer has
+// P_N >= -tolerance on every contact. (The block's own error is >= |P_N| already;
+// divided by a |b| of sliding velocities, 7-11 m/s on the slider-crank, a pull of
+// 1.1e-7 N s passed a tolerance of 1e-8. An answer without pulls is unchanged.)
+double withPullFloor(double e, double pn, double scale) { return pn < 0 ? std::max(e, -pn * scale) : e; }
+
+// Squared error of one block given its U (see solverError); scale: max(1, |b|).
+double blockError2(const ProblemBlock& bl, const double* P, const double* U, double scale) {
   switch (bl.kind) {
     case BlockKind::Frictional: {
       const Vector3d p(P[0], P[1], P[2]);
       const Vector3d u(U[0], U[1], U[2]);
-      const double e = localCoulombError(p, u, bl.mu);
+      const double e = withPullFloor(localCoulombError(p, u, bl.mu), P[0], scale);
       return e * e;
     }
     case BlockKind::Frictionless: {
-      const double e = P[0] - std::max(0.0, P[0] - U[0]);
+      const double e = withPullFloor(P[0] - std::max(0.0, P[0] - U[0]), P[0], scale);
       return e * e;
     }
     case BlockKind::Bilateral: {
@@ -205,9 +213,10 @@ const char* solverStageName(SolverStage stage) {
 
 double errorFromU(const std::vector<ProblemBlock>& blocks, const double* P, const double* U,
                   double bnorm) {
+  const double scale = std::max(1.0, bnorm);
   double s = 0;
-  for (const ProblemBlock& bl : blocks) s += blockError2(bl, P + bl.row, U + bl.row);
-  return std::sqrt(s) / std::max(1.0, bnorm);
+  for (const ProblemBlock& bl : blocks) s += blockError2(bl, P + bl.row, U + bl.row, scale);
+  return std::sqrt(s) / scale;
 }
 
 double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
@@ -217,16 +226,17 @@ double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
   const int m = problemRows(blocks);
   if (m == 0) return 0;
   if (!validBlocks(blocks, std::min({W.rows(), W.cols(), b.size(), P.size()}))) return INFINITY;
+  const double bnorm = b.head(m).norm();
+  if (!std::isfinite(bnorm)) return INFINITY;
+  const double scale = std::max(1.0, bnorm);
   double s = 0;
   for (const ProblemBlock& bl : blocks) {
     // Row block of U = W P + b, fixed-capacity result: no allocation.
     BVec u = b.segment(bl.row, bl.size);
     u.noalias() += W.block(bl.row, 0, bl.size, m) * P.head(m);
-    s += blockError2(bl, P.data() + bl.row, u.data());
+    s += blockError2(bl, P.data() + bl.row, u.data(), scale);
   }
-  const double bnorm = b.head(m).norm();
-  if (!std::isfinite(bnorm)) return INFINITY;
-  const double e = std::sqrt(s) / std::max(1.0, bnorm);
+  const double e = std::sqrt(s) / scale;
   return std::isfinite(e) ? e : INFINITY;
 }
 
