@@ -103,10 +103,11 @@ def figures(d):
     return r
 
 
-def run(exe, scene, extra, csv=True, nice=False, arrays=None):
-    """One trip; returns (summary JSON, figures or None); `arrays`: an .npz to keep the columns in."""
-    cmd = (['nice', '-n', '10'] if nice else []) + [exe, scene, '--duration', repr(DURATION), '--command', PROBE,
-                                                    '--quiet'] + extra
+def run(exe, scene, extra, csv=True, nice=False, arrays=None, duration=DURATION):
+    """One trip; returns (summary JSON, figures or None); `arrays`: an .npz to keep the columns in;
+    duration None: `extra` gives it (or the run's own default)."""
+    cmd = ((['nice', '-n', '10'] if nice else []) + [exe, scene] +
+           ([] if duration is None else ['--duration', repr(duration)]) + ['--command', PROBE, '--quiet'] + extra)
     if not csv:
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode != 0:

@@ -21,10 +21,7 @@ The caches are keyed on the scene's checksum and the settings; the binary is rec
 import argparse
 import json
 import os
-import subprocess
 import sys
-import tempfile
-import threading
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -35,29 +32,8 @@ FIGURES = ('touch_s', 'mean_push_N', 'release_s', 'c7_open_s')
 
 
 def nscd_run(exe, scene, extra, csv=False):
-    """One run; returns (its JSON line, the trip's figures or None)."""
-    cmd = [exe, scene, '--command', acc.PROBE, '--quiet'] + extra
-    if not csv:
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        if r.returncode != 0:
-            sys.exit('nscd_run failed: %s\n%s' % (' '.join(cmd), r.stderr.strip()))
-        return json.loads(r.stdout.strip().splitlines()[-1]), None
-    with tempfile.TemporaryDirectory() as tmp:
-        fifo = os.path.join(tmp, 'trip.csv')
-        os.mkfifo(fifo)
-        p = subprocess.Popen(cmd + ['--csv', fifo], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        out = {}
-
-        def drain():
-            out['stdout'], out['stderr'] = p.communicate()
-        th = threading.Thread(target=drain)
-        th.start()
-        with open(fifo) as stream:
-            d = acc.read_rows(stream)
-        th.join()
-        if p.returncode != 0:
-            sys.exit('nscd_run failed: %s\n%s' % (' '.join(cmd), out['stderr'].strip()))
-        return json.loads(out['stdout'].strip().splitlines()[-1]), acc.figures(d)
+    """One run, its duration in `extra`; returns (its JSON line, the trip's figures or None)."""
+    return acc.run(exe, scene, extra, csv=csv, duration=None)
 
 
 def cached(path, key, make):
