@@ -203,4 +203,27 @@ __attribute__((target_clones("avx", "default"))) void luSolve(const double* A, i
   }
 }
 
+void factorScaledRows(const double* W, int ldw, int m, const int* rows, int ne, const double* s, double* L,
+                      int ldl, double dropTol, int* perm) {
+  for (int c = 0; c < ne; ++c) {
+    const double* wc = W + std::ptrdiff_t(rows[c]) * ldw;
+    double* lc = L + std::ptrdiff_t(c) * ldl;
+    const double sc = s[c];
+    if (ne == m) {  // no zero rows: the rows are 0 .. m-1
+      for (int r = c; r < ne; ++r) lc[r] = wc[r] * (s[r] * sc);
+    } else {
+      for (int r = c; r < ne; ++r) lc[r] = wc[rows[r]] * (s[r] * sc);
+    }
+  }
+  pivotedLdlt(L, ldl, ne, dropTol, perm, perm + ne);
+}
+
+void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
+                     const double* rhs, double* x, double* P) {
+  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[rows[a]];
+  ldltSolve(L, ldl, ne, perm, x, x + ne);
+  for (int i = 0; i < m; ++i) P[i] = 0;
+  for (int a = 0; a < ne; ++a) P[rows[a]] = s[a] * x[a];
+}
+
 }  // namespace nscd

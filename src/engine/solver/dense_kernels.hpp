@@ -30,6 +30,16 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
 // in, x out (both in original order); tmp: n scratch.
 void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp);
 
+// The equality rows' factor, as the solver and the direct equality step use it:
+// rows[0..ne) of the m x m W (its nonzero rows), scaled by s (1/sqrt of their
+// diagonals) to a unit diagonal, into L's lower triangle, then pivotedLdlt.
+void factorScaledRows(const double* W, int ldw, int m, const int* rows, int ne, const double* s, double* L,
+                      int ldl, double dropTol, int* perm);
+// P = -W^+ rhs over those rows from that factor (W = S^-1 Ws S^-1, so W^+ rhs =
+// S Ws^+ S rhs), 0 on the others; x: 2 ne scratch.
+void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
+                     const double* rhs, double* x, double* P);
+
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a
 // pivot is zero or not finite.
 bool luFactor(double* A, int ld, int n, int* piv);

@@ -82,24 +82,6 @@ void factorEqualities(SolveProblem& pr) {
   }
 }
 
-// The lower triangle of the equality rows' block of W scaled to a unit diagonal.
-void copyScaledEqualities(const SolveProblem& pr, SolverBuffers& buf) {
-  const int ne = pr.ne;
-  const double* s = buf.eqScale.data();
-  const int* rows = buf.eqRows.data();
-  const Eigen::Index ldw = pr.W.outerStride(), ldl = buf.eqL.outerStride();
-  for (int c = 0; c < ne; ++c) {
-    const double* wc = pr.W.data() + rows[c] * ldw;
-    double* lc = buf.eqL.data() + c * ldl;
-    const double sc = s[c];
-    if (ne == pr.m) {  // no zero rows: the rows are 0 .. m-1
-      for (int r = c; r < ne; ++r) lc[r] = wc[r] * (s[r] * sc);
-    } else {
-      for (int r = c; r < ne; ++r) lc[r] = wc[rows[r]] * (s[r] * sc);
-    }
-  }
-}
-
 }  // namespace
 
 void prepareEqualityProblem(SolveProblem& pr, double maxDiag) {
@@ -119,21 +101,15 @@ void prepareEqualityProblem(SolveProblem& pr, double maxDiag) {
   // the rows' units (a light link's rotation rows are 1e9 times its neighbours').
   double* s = buf.eqScale.data();
   for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W(buf.eqRows[a], buf.eqRows[a]));
-  copyScaledEqualities(pr, buf);
-  pivotedLdlt(buf.eqL.data(), int(buf.eqL.rows()), ne, kEqScaledDrop, buf.eqPerm.data(), buf.eqPerm.data() + ne);
+  factorScaledRows(W.data(), int(W.outerStride()), pr.m, buf.eqRows.data(), ne, s, buf.eqL.data(),
+                   int(buf.eqL.outerStride()), kEqScaledDrop, buf.eqPerm.data());
   pr.bnorm = pr.b.head(pr.m).norm();
   pr.localTol = std::max(1e-14, 1e-2 * pr.tolerance);
 }
 
 void solveByEqualityFactor(SolverBuffers& buf, int m, const double* rhs, double* P) {
-  const int ne = int(buf.eqRows.size());
-  const double* s = buf.eqScale.data();
-  double* x = buf.eqRhs.data();
-  // W = S^-1 Ws S^-1 (S = diag(s)), so W⁺ rhs = S Ws⁺ S rhs on the rows kept.
-  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[buf.eqRows[a]];
-  ldltSolve(buf.eqL.data(), int(buf.eqL.rows()), ne, buf.eqPerm.data(), x, x + ne);
-  for (int i = 0; i < m; ++i) P[i] = 0;
-  for (int a = 0; a < ne; ++a) P[buf.eqRows[a]] = s[a] * x[a];
+  solveScaledRows(buf.eqL.data(), int(buf.eqL.outerStride()), int(buf.eqRows.size()), buf.eqPerm.data(),
+                  buf.eqRows.data(), buf.eqScale.data(), m, rhs, buf.eqRhs.data(), P);
 }
 
 void prepareProblem(SolveProblem& pr, double maxDiag) {

@@ -54,18 +54,8 @@ bool factorRows(StepWorkspace& ws, int r) {
   f.ne = ne;
   double* s = f.scale.data();
   for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W[f.rows[a] * ldw + f.rows[a]]);
-  const Eigen::Index ldl = f.L.outerStride();
-  for (int c = 0; c < ne; ++c) {
-    const double* wc = W + f.rows[c] * ldw;
-    double* lc = f.L.data() + c * ldl;
-    const double sc = s[c];
-    if (ne == r) {
-      for (int i = c; i < ne; ++i) lc[i] = wc[i] * (s[i] * sc);
-    } else {
-      for (int i = c; i < ne; ++i) lc[i] = wc[f.rows[i]] * (s[i] * sc);
-    }
-  }
-  pivotedLdlt(f.L.data(), int(ldl), ne, kScaledDrop, f.perm.data(), f.perm.data() + ne);
+  factorScaledRows(W, int(ldw), r, f.rows.data(), ne, s, f.L.data(), int(f.L.outerStride()), kScaledDrop,
+                   f.perm.data());
   return true;
 }
 
@@ -95,13 +85,8 @@ double residualOf(StepWorkspace& ws, int r, double bnorm) {
 
 void solveWithEqualityFactor(StepWorkspace& ws, int r, const double* rhs, double* P) {
   EqualityFactor& f = ws.equality;
-  const int ne = f.ne;
-  const double* s = f.scale.data();
-  double* x = f.x.data();
-  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[f.rows[a]];
-  ldltSolve(f.L.data(), int(f.L.outerStride()), ne, f.perm.data(), x, x + ne);
-  for (int i = 0; i < r; ++i) P[i] = 0;
-  for (int a = 0; a < ne; ++a) P[f.rows[a]] = s[a] * x[a];
+  solveScaledRows(f.L.data(), int(f.L.outerStride()), f.ne, f.perm.data(), f.rows.data(), f.scale.data(), r, rhs,
+                  f.x.data(), P);
 }
 
 bool solveEqualityStep(const Model& m, StepWorkspace& ws, StepStats& st) {
