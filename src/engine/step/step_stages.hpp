@@ -109,6 +109,11 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
 // bodies, so each row is mapped by its bodies' 6 x 6 blocks alone.
 void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
                       StepWorkspace& ws, int from, int r);
+// The same W's lower triangle alone (the upper is left as it was) and Y, for
+// rows [0, r), where Ŵ = M^-1 in the form bodies have (!facts.stiff,
+// mass_inverse_by_body) and nbodies <= 64: the direct equality step's operator,
+// bit for bit assembleDelassus's there, from each pair of blocks that share a body.
+void assembleEqualityDelassus(StepWorkspace& ws, int r);
 
 // ---- 4a. the friction-contact problem (friction_contact_problem.cpp): b = G v_free
 // minus the bilateral targets plus the Newton impact shift e U_N,k, the problem
