@@ -122,6 +122,179 @@ bool stepHadEvent(const StepStats& st) {
          st.iteration_matrix_fallback;
 }
 
+void recordClosedContacts(const std::vector<ContactReport>& reports, AdaptiveStepWorkspace& a) {
+  for (const ContactReport& r : reports) {
+    if (!(r.fn > 0)) continue;
+    const int slot = r.clearance ? a.slot_base_clearance + r.source * kMaxClearancePoints + r.feature
+                                 : r.source * kMaxPointsPerPair + r.feature;
+    a.closed[slot] = 1;
+    a.closed_at[slot] = r;  // no allocation: a ContactReport owns no memory
+  }
+}
+
+namespace {
+
+// Include a sticking contact's tangent rows in the split (else its normal row alone).
+constexpr bool kSplitStickRows = false;
+// A row whose pivot falls below this fraction of its diagonal is (numerically)
+// in the span of the rows before it, and left out.
+constexpr double kDependentRow = 1e-10;
+
+// Starts a row of the split on up to two bodies (kGround: none).
+AdaptiveStepWorkspace::SplitRow& newSplitRow(int body_a, int body_b, AdaptiveStepWorkspace& a) {
+  AdaptiveStepWorkspace::SplitRow& row = a.split_rows[a.split_count++];
+  row.body[0] = body_a == kGround ? -1 : body_a;
+  row.body[1] = body_b == kGround || body_b == body_a ? -1 : body_b;
+  return row;
+}
+
+// Sets the row's part on its k-th body: linear and angular (world) parts, and M^-1 times them.
+void setSplitRow(AdaptiveStepWorkspace::SplitRow& row, int k, const Vec3& lin, const Vec3& ang, const State& s,
+                 const AdaptiveStepWorkspace& a) {
+  const int b = row.body[k];
+  if (b < 0) return;
+  const Mat3 R = s.bodies[b].q.toRotationMatrix();
+  row.J[k] << lin, ang;
+  row.Y[k] << a.inverse_mass[b] * lin, R * (a.inverse_inertia[b] * (R.transpose() * ang));
+}
+
+// The row dir . (v_a + w_a x r_a - v_b - w_b x r_b) of a contact point (r from
+// each body's centre to the point).
+void addContactRow(const Vec3& point, const Vec3& dir, int body_a, int body_b, const State& s,
+                   AdaptiveStepWorkspace& a) {
+  AdaptiveStepWorkspace::SplitRow& row = newSplitRow(body_a, body_b, a);
+  for (int k = 0; k < 2; ++k) {
+    if (row.body[k] < 0) continue;
+    const double sign = k == 0 ? 1.0 : -1.0;
+    setSplitRow(row, k, sign * dir, sign * (point - s.bodies[row.body[k]].x).cross(dir), s, a);
+  }
+}
+
+}  // namespace
+
+double eventStepDifference(const State& coarse, const State& fine, double atol, double rtol, double h,
+                           const StepWorkspace& bilateral, AdaptiveStepWorkspace& a) {
+  // The rows at the fine path's end: the ideal joints' and prescribed motions'
+  // (bilateral.G, angular parts in body axes), then the closed contacts'.
+  a.split_count = 0;
+  for (const ConstraintBlock& blk : bilateral.blocks) {
+    if (blk.kind != BlockKind::Bilateral) continue;
+    for (int r = blk.row; r < blk.row + blk.size; ++r) {
+      AdaptiveStepWorkspace::SplitRow& row = newSplitRow(blk.body_a, blk.body_b, a);
+      for (int k = 0; k < 2; ++k) {
+        const int b = row.body[k];
+        if (b < 0) continue;
+        const auto g = bilateral.G.block<1, 6>(r, 6 * b).transpose();
+        setSplitRow(row, k, g.head<3>(), fine.bodies[b].q * Vec3(g.tail<3>()), fine, a);
+      }
+    }
+  }
+  const int joint_rows = a.split_count;
+  for (size_t slot = 0; slot < a.closed.size(); ++slot) {
+    if (!a.closed[slot]) continue;
+    const ContactReport& r = a.closed_at[slot];
+    addContactRow(r.point, r.normal, r.body_a, r.body_b, fine, a);
+    if (kSplitStickRows && a.slot_mu[slot] > 0 && !r.sliding) {
+      const Vec3 t1 = r.normal.unitOrthogonal(), t2 = r.normal.cross(t1);
+      addContactRow(r.point, t1, r.body_a, r.body_b, fine, a);
+      addContactRow(r.point, t2, r.body_a, r.body_b, fine, a);
+    }
+  }
+  const int m = a.split_count;
+  const size_t nb = fine.bodies.size();
+  // The velocity difference (fine - coarse), world frame.
+  for (size_t i = 0; i < nb; ++i) {
+    const BodyState& c = coarse.bodies[i];
+    const BodyState& f = fine.bodies[i];
+    a.velocity_difference[i] = f.v - c.v;
+    a.angular_difference[i] = f.q * f.w - c.q * c.w;
+  }
+  // W = J M^-1 J^T and J dv.
+  for (int i = 0; i < m; ++i) {
+    const AdaptiveStepWorkspace::SplitRow& ri = a.split_rows[i];
+    double jdv = 0;
+    for (int k = 0; k < 2; ++k)
+      if (ri.body[k] >= 0)
+        jdv += ri.J[k].head<3>().dot(a.velocity_difference[ri.body[k]]) + ri.J[k].tail<3>().dot(a.angular_difference[ri.body[k]]);
+    a.split_rhs[i] = jdv;
+    for (int j = 0; j <= i; ++j) {
+      const AdaptiveStepWorkspace::SplitRow& rj = a.split_rows[j];
+      double w = 0;
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l)
+          if (ri.body[k] >= 0 && ri.body[k] == rj.body[l]) w += ri.J[k].dot(rj.Y[l]);
+      a.split_W(i, j) = w;
+    }
+  }
+  // Cholesky factor in place (lower triangle), dependent rows left out (lambda 0).
+  Eigen::MatrixXd& L = a.split_W;
+  for (int j = 0; j < m; ++j) {
+    a.split_diagonal[j] = L(j, j);
+    double d = L(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > kDependentRow * a.split_diagonal[j])) {
+      for (int i = j; i < m; ++i) L(i, j) = 0;
+      continue;
+    }
+    L(j, j) = std::sqrt(d);
+    for (int i = j + 1; i < m; ++i) {
+      double x = L(i, j);
+      for (int k = 0; k < j; ++k) x -= L(i, k) * L(j, k);
+      L(i, j) = x / L(j, j);
+    }
+  }
+  Eigen::VectorXd& lambda = a.split_rhs;
+  for (int j = 0; j < m; ++j) {
+    if (L(j, j) == 0) { lambda[j] = 0; continue; }
+    double x = lambda[j];
+    for (int k = 0; k < j; ++k) x -= L(j, k) * lambda[k];
+    lambda[j] = x / L(j, j);
+  }
+  // y = L^-1 J dv are the coordinates of dv's projection in an M-orthonormal
+  // basis of the rows' span, the joints' rows first: without their coordinates
+  // it is the part along the contacts' rows M-orthogonal to the joints' (the
+  // velocity change a contact impulse makes, passed through the ideal joints).
+  for (int j = 0; j < joint_rows; ++j) lambda[j] = 0;
+  for (int j = m - 1; j >= 0; --j) {
+    if (L(j, j) == 0) { lambda[j] = 0; continue; }
+    double x = lambda[j];
+    for (int k = j + 1; k < m; ++k) x -= L(k, j) * lambda[k];
+    lambda[j] = x / L(j, j);
+  }
+  // The part along the contacts' rows, M^-1 J^T lambda (weight h); the rest (free
+  // motion, and the part along the joints' rows) at weight 1.
+  // Positions and orientations as scaledBodiesDifference counts them (velocities at weight 0).
+  double worst = scaledBodiesDifference(coarse.bodies, fine.bodies, atol, rtol, 0.0, a.rotation_length);
+  auto take = [&](double constrained, double free, double x, double y) {
+    const double scale = std::max(std::abs(x), std::abs(y));
+    const double e = std::max(h * std::abs(constrained) / (atol + rtol * h * scale),
+                              std::abs(free) / (atol + rtol * scale));
+    worst = e <= worst ? worst : (std::isnan(e) ? INFINITY : e);
+  };
+  for (size_t i = 0; i < nb; ++i) {
+    const BodyState& c = coarse.bodies[i];
+    const BodyState& f = fine.bodies[i];
+    Vec3 cv = Vec3::Zero(), cw = Vec3::Zero();
+    for (int j = 0; j < m; ++j) {
+      const AdaptiveStepWorkspace::SplitRow& row = a.split_rows[j];
+      for (int k = 0; k < 2; ++k)
+        if (row.body[k] == static_cast<int>(i)) {
+          cv += lambda[j] * row.Y[k].head<3>();
+          cw += lambda[j] * row.Y[k].tail<3>();
+        }
+    }
+    const double r = a.rotation_length[i];
+    const Vec3 wc = r * (c.q * c.w), wf = r * (f.q * f.w);
+    const Vec3 dv = a.velocity_difference[i], dw = r * a.angular_difference[i];
+    cw *= r;
+    for (int k = 0; k < 3; ++k) {
+      take(cv[k], dv[k] - cv[k], c.v[k], f.v[k]);
+      take(cw[k], dw[k] - cw[k], wc[k], wf[k]);
+    }
+  }
+  return worst;
+}
+
 void extrapolateBodies(const std::vector<BodyState>& coarse, double f, std::vector<BodyState>& fine) {
   for (size_t i = 0; i < fine.size(); ++i) {
     const BodyState& c = coarse[i];
