@@ -121,24 +121,6 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
   // per clearance joint (contact_candidates.cpp, clearance_joint.cpp).
   a.rotation_length.resize(m.bodies.size());
   for (size_t i = 0; i < m.bodies.size(); ++i) a.rotation_length[i] = rotationLength(m, static_cast<int>(i));
-  a.slot_base_clearance = ws.facts.contact_slot_base_clearance;
-  a.closed.assign(ws.facts.contact_slots, 0);
-  a.closed_at.assign(ws.facts.contact_slots, ContactReport());
-  const size_t nb = m.bodies.size();
-  a.inverse_mass.assign(nb, 0.0);
-  a.inverse_inertia.assign(nb, Mat3::Zero());
-  for (size_t i = 0; i < nb; ++i) {
-    a.inverse_mass[i] = 1 / m.bodies[i].mass;
-    a.inverse_inertia[i] = m.bodies[i].inertia.inverse();
-  }
-  // The bilateral rows, and a normal and two tangent rows per contact.
-  const int split_rows = ws.facts.bilateral_rows + 3 * ws.facts.contact_slots;
-  a.split_rows.assign(split_rows, AdaptiveStepWorkspace::SplitRow());
-  a.split_W.setZero(split_rows, split_rows);
-  a.split_rhs.setZero(split_rows);
-  a.split_diagonal.setZero(split_rows);
-  a.velocity_difference.assign(nb, Vec3::Zero());
-  a.angular_difference.assign(nb, Vec3::Zero());
   a.slot_mu.assign(ws.facts.contact_slots, 0.0);
   for (int slot = 0; slot < ws.facts.contact_slots; ++slot) {
     const int base = ws.facts.contact_slot_base_clearance;
@@ -202,41 +184,27 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
 // One attempt of length h from a.start: the coarse path (kept in a.coarse), then
 // the fine one (left in state_), and their scaled difference. Where a contact
 // changed mode, velocities jump: the paths' velocities differ by O(1) whenever
-// one has met the event and the other not yet, however short the step. The part
-// of their difference that the closed contacts' impulses make then counts as the
-// displacement it makes over the step (weight h), which a shorter step does
-// reduce: the event is located in time; the rest, free motion whose error
-// lasts, at weight 1 (eventStepDifference).
+// one has met the event and the other not yet, however short the step. Their
+// difference then counts as the displacement it makes over the step (weight h),
+// which a shorter step does reduce: the event is located in time.
 StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& error, bool& event,
                                           long& iterations) {
   AdaptiveStepWorkspace& a = *adaptive_;
   const Settings& set = model_.settings;
   StepStatus coarse = StepStatus::Ok, fine = StepStatus::Ok;
-  // The estimate with an event (eventStepDifference): the ideal joints' rows at
-  // the fine path's end gathered in the query workspace (which queries fill afresh).
-  auto eventDifference = [&]() {
-    StepWorkspace& q = *query_ws_;
-    clearConstraintRows(q);
-    appendBilateralRows(model_, state_, q.zero_rates, q);
-    return eventStepDifference(a.coarse, state_, set.atol, set.rtol, h, q, a);
-  };
   // The coarse path (kept in a.coarse) and the fine one (left in state_).
   auto takePaths = [&]() {
     bool coarse_event = false, fine_event = false;
     state_ = a.start;  // same sizes: no allocation
-    std::fill(a.closed.begin(), a.closed.end(), 0);
     coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
     a.coarse = state_;
     a.coarse_out.stats = out_->stats;
-    recordClosedContacts(out_->reports, a);
     state_ = a.start;
     fine = takeAdaptivePath(2 * kCoarseSubsteps, h, fraction, a.fine_out, fine_event, iterations);
-    recordClosedContacts(out_->reports, a);
     event = coarse_event || fine_event;
     const bool finite = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite;
-    error = !finite ? INFINITY
-            : event ? eventDifference()
-                    : scaledStateDifference(a.coarse, state_, set.atol, set.rtol, 1.0, a.rotation_length);
+    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
+                   : INFINITY;
   };
   a.order = 2;
   a.tableau = false;

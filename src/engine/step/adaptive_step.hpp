@@ -48,27 +48,6 @@ struct AdaptiveStepWorkspace {
   // False while the paths of a smooth step are taken: their substeps skip the
   // projection (Simulator::advance), the step's answer is projected once.
   bool project_substeps = true;
-  // The split of an event step's velocity difference (eventStepDifference):
-  // per warm-start slot, whether its contact carried a normal impulse at the end
-  // of either path (closed) and where (closed_at: the point and normal of the
-  // last path that closed it); per body its inverse mass (0: prescribed motion)
-  // and inverse inertia (body axes); the rows of the closed contacts (count
-  // split_count), their Gram matrix in M^-1 (split_W, then its factor), and the
-  // paths' velocity difference (per body, world frame).
-  int slot_base_clearance = 0;
-  std::vector<char> closed;
-  std::vector<ContactReport> closed_at;
-  std::vector<double> inverse_mass;
-  std::vector<Mat3> inverse_inertia;
-  struct SplitRow {
-    int body[2] = {-1, -1};
-    Eigen::Matrix<double, 6, 1> J[2], Y[2];  // the row on each body, and M^-1 times it
-  };
-  std::vector<SplitRow> split_rows;
-  int split_count = 0;
-  Eigen::MatrixXd split_W;
-  Eigen::VectorXd split_rhs, split_diagonal;
-  std::vector<Vec3> velocity_difference, angular_difference;
 };
 
 // Sizes the buffers for the model (`state`: the simulator's, for the sizes).
@@ -104,18 +83,6 @@ bool contactsOpen(const std::vector<double>& slot_mu, const State& s);
 // True if the step's stats show a nonsmooth event or a rescue: an unsolved
 // problem, contacts closed by the answer, a halving, a plastic or frictionless fallback, scaled impulses.
 bool stepHadEvent(const StepStats& st);
-// Marks the contacts that carry a normal impulse in `reports` (the last substep
-// of a path) as closed in a.closed, their geometry in a.closed_at.
-void recordClosedContacts(const std::vector<ContactReport>& reports, AdaptiveStepWorkspace& a);
-// The error estimate of a step with an event: as scaledStateDifference, but the
-// velocity difference split M-orthogonally along the rows of the contacts
-// closed at either path's end (a.closed): the part along them (which the
-// contacts' impulses make, and their laws set again at the next step) counts
-// times h, the rest (free motion, which no impulse of theirs changes, and whose
-// error stays) at weight 1. The normal row of each closed contact, and its
-// tangent rows if it sticks.
-double eventStepDifference(const State& coarse, const State& fine, double atol, double rtol, double h,
-                           const StepWorkspace& bilateral, AdaptiveStepWorkspace& a);
 // The Richardson combination y_fine + (y_fine - y_coarse): the fine path's error
 // of order h h/4 cancelled against the coarse one's h h/2, for a scheme of order
 // 1. The theta-scheme is first order on mechanisms (measured: a four-bar's error
