@@ -3,7 +3,7 @@
 // or gain energy; reruns must be bit-identical whatever the thread count. Also the
 // sweep runner's grid, shards and merge, and the nscd_sweep tool over several
 // scenes with actuator schedules and per-run time series (--scenes, --command,
-// --series), checked against nscd_run.
+// --series) and from a state file (--initial-state), checked against nscd_run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -502,6 +502,101 @@ TEST(SweepScenes, BadSceneOrActuatorIsRefusedBeforeRunning) {
   const nscd_test::RunResult every = nscd_test::runProgram(sweep, good + " --every 5 --quiet");
   EXPECT_EQ(every.status, 2);
   EXPECT_NE(every.err.find("--every needs --series"), std::string::npos) << every.err;
+}
+
+// ------------------------------------------------------------ nscd_sweep --initial-state
+
+// Cell i of a CSV row.
+std::string csvCell(const std::string& row, int i) {
+  std::istringstream in(row);
+  std::string v;
+  for (int j = 0; j <= i; ++j) std::getline(in, v, ',');
+  return v;
+}
+
+// Every run of a sweep from a state file is nscd_run --initial-state with the same
+// settings: its series byte for byte, its JSON line (timing aside) equal. dt 1e-5
+// divides the state's time (the writing run's clock continues), 7e-6 does not
+// (steps end at t0 + k dt); fixed and adaptive steps; the schedule continues
+// across its corner at 10 ms.
+TEST(SweepFromState, RunsAreNscdRunsFromTheState) {
+  const std::string scene = nscd_test::writeTemp(spinPendulum("50e-6", "0.5"));
+  const std::string dir = freshDir("from_state");
+  const std::string state = dir + "/at_6ms.state";
+  const std::string common = std::string(" --command ") + kSpin + " --duration 0.006 --set rtol=1e-3 --set atol=1e-6";
+  const nscd_test::RunResult first =
+      nscd_test::runNscd(scene + common + " --dt 1e-5 --quiet --save-state " + state);
+  ASSERT_EQ(first.status, 0) << first.err;
+  const nscd_test::RunResult sw = nscd_test::runProgram(
+      nscd_test::toolExe("nscd_sweep"), scene + " --initial-state " + state +
+                                            " --param step_control=fixed,adaptive --param dt=1e-5,7e-6" + common +
+                                            " --series " + dir + "/s --jobs 2 --no-timing --quiet");
+  ASSERT_EQ(sw.status, 0) << sw.err;
+  const std::vector<std::string> rows = lines(sw.out);
+  ASSERT_EQ(rows.size(), 5u) << sw.out;
+  EXPECT_EQ(rows[0].rfind("run,runs,step_control,dt,status,steps,sim_time,", 0), 0u) << rows[0];
+  for (int k = 0; k < 4; ++k) {
+    const std::string& row = rows[k + 1];
+    ASSERT_EQ(csvCell(row, 4), "ok") << row;
+    const std::string control = csvCell(row, 2), dt = csvCell(row, 3);
+    const std::string csv = dir + "/cli" + std::to_string(k) + ".csv";
+    const nscd_test::RunResult run = nscd_test::runNscd(scene + " --initial-state " + state + " --set step_control=" +
+                                                        control + " --dt " + dt + common + " --csv " + csv + " --quiet");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const std::string stem = dir + "/s/run_" + std::to_string(k);
+    const std::string series = slurp(stem + ".csv");
+    ASSERT_GT(series.size(), 1000u) << row;
+    EXPECT_EQ(series, slurp(csv)) << row << ": the series differs from nscd_run --initial-state --csv";
+    EXPECT_EQ(withoutTiming(slurp(stem + ".json")), withoutTiming(run.out)) << row;
+    // The run starts at the state's time, and sim_time counts from it.
+    EXPECT_DOUBLE_EQ(std::stod(csvCell(lines(series).at(1), 0)), 0.006) << row;
+    EXPECT_NEAR(std::stod(csvCell(row, 6)), 0.006, std::stod(dt)) << row;
+  }
+}
+
+// A state file that does not fit the scene, a damaged one, and a clearance axis:
+// one line, status 2, nothing run (no series written).
+TEST(SweepFromState, AStateThatDoesNotFitIsRefusedBeforeRunning) {
+  const std::string spin = nscd_test::writeTemp(spinPendulum("50e-6", "0.5"));
+  const std::string plain = nscd_test::scenePath("urdf/clearance_pendulum.urdf");  // no actuator
+  const std::string dir = freshDir("bad_state");
+  const std::string spin_state = dir + "/spin.state", plain_state = dir + "/plain.state";
+  ASSERT_EQ(nscd_test::runNscd(spin + " --duration 0.001 --quiet --save-state " + spin_state).status, 0);
+  ASSERT_EQ(nscd_test::runNscd(plain + " --duration 0.001 --quiet --save-state " + plain_state).status, 0);
+  std::string text = slurp(spin_state);
+  const size_t at = text.find("\nbody 0 ");
+  ASSERT_NE(at, std::string::npos);
+  text[text.find("0x", at) + 2] = text[text.find("0x", at) + 2] == '1' ? '0' : '1';
+  const std::string damaged = dir + "/damaged.state";
+  std::ofstream(damaged) << text;
+  const std::string sweep = nscd_test::toolExe("nscd_sweep");
+  const std::string rest = " --param dt=1e-5,2e-5 --duration 0.001 --series " + dir + "/s --quiet";
+  struct Refusal {
+    std::string args, err_start, err_has;
+  };
+  const std::vector<Refusal> refusals = {
+      {spin + " --initial-state " + plain_state, "nscd_sweep: " + plain_state + ":3: ",
+       "the state was written for another scene: 0 actuators in the file, 1 in this scene"},
+      {spin + " --initial-state " + damaged, "nscd_sweep: " + damaged + ":",
+       "the checksum differs: the file was changed or damaged after it was written"},
+      {"--scenes " + plain + " " + spin + " --initial-state " + plain_state, "nscd_sweep: " + plain_state + ":3: ",
+       "1 in this scene (scene " + spin + ")"},
+      {spin + " --initial-state " + spin_state + " --param radial=20e-6,50e-6", "nscd_sweep: --param radial: ",
+       "fits only the clearances it was written with"},
+  };
+  for (const Refusal& f : refusals) {
+    const nscd_test::RunResult r = nscd_test::runProgram(sweep, f.args + rest);
+    EXPECT_EQ(r.status, 2) << f.args;
+    EXPECT_EQ(r.err.rfind(f.err_start, 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(f.err_has), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_FALSE(std::filesystem::exists(dir + "/s")) << "a run started despite the bad state: " << f.args;
+  }
+  // The same sweep from the fitting state runs.
+  const nscd_test::RunResult ok = nscd_test::runProgram(sweep, spin + " --initial-state " + spin_state + rest);
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(lines(ok.out).size(), 3u) << ok.out;
 }
 
 }  // namespace

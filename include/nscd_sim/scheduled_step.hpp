@@ -27,4 +27,29 @@ double nextScheduleCorner(const std::vector<BoundSchedule>& schedules, double t)
 // / dt) (as nscd_run counts); adaptive, the sim time reached duration.
 bool runFinished(const Simulator& sim, long k, double duration);
 
+// Where a run of `duration` starts and ends, and how its fixed steps count time
+// (nscd_run and nscd_sweep, from t = 0 or from a state file). From t = 0 step k
+// ends at k dt. From a state at t0 that is a multiple of dt (to 1e-6 dt), K0 =
+// round(t0 / dt), step k ends at (K0 + k) dt: the times of the run that wrote the
+// state, so a continuation is bit-identical to it. From any other t0, at t0 + k dt.
+// Adaptive steps run until t0 + duration.
+class RunClock {
+ public:
+  RunClock(const Simulator& sim, double duration);
+
+  double start() const { return t0_; }  // t0: the run's sim_time is t - t0
+
+  // Sets the scheduled commands for step k (1, 2, ... of this run).
+  void prepare(Simulator& sim, const std::vector<BoundSchedule>& schedules, long k) const;
+
+  // Whether the run is over after k steps.
+  bool finished(const Simulator& sim, long k) const;
+
+ private:
+  double t0_ = 0;
+  double duration_ = 0;
+  double until_ = 0;     // t0 + duration
+  long first_step_ = 0;  // K0, or -1: t0 is not a multiple of dt
+};
+
 }  // namespace nscd

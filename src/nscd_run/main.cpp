@@ -250,67 +250,36 @@ struct RunTally {
   }
 };
 
-// Where the run starts and ends, and how its fixed steps count time. From t = 0
-// step k ends at k dt. From a state at t0 that is a multiple of dt (to 1e-6 dt),
-// K0 = round(t0 / dt), step k ends at (K0 + k) dt: the times of the run that wrote
-// the state, so a continuation is bit-identical to it. From any other t0, at
-// t0 + k dt. Adaptive steps run until t0 + duration.
-struct RunClock {
-  double t0 = 0;
-  double until = 0;     // t0 + duration
-  long first_step = 0;  // K0, or -1: not a multiple of dt
-
-  RunClock(const nscd::Simulator& sim, double duration) : t0(sim.state().t), until(t0 + duration) {
-    const double dt = sim.model().settings.dt;
-    const double k0 = std::round(t0 / dt);
-    first_step = std::abs(t0 / dt - k0) <= 1e-6 ? static_cast<long>(k0) : -1;
-  }
-
-  // Sets the scheduled commands for step k (1, 2, ... of this run).
-  void prepare(nscd::Simulator& sim, const std::vector<nscd::BoundSchedule>& schedules, long k) const {
-    if (sim.model().settings.step_control == nscd::StepControl::Fixed && first_step < 0)
-      nscd::applySchedules(schedules, t0 + k * sim.model().settings.dt, sim);
-    else
-      nscd::prepareScheduledStep(sim, schedules, first_step + k, until);
-  }
-
-  // Whether the run is over after k steps.
-  bool finished(const nscd::Simulator& sim, long k, double duration) const {
-    const bool adaptive = sim.model().settings.step_control == nscd::StepControl::Adaptive;
-    return nscd::runFinished(sim, k, adaptive ? until : duration);
-  }
-};
-
 // What is needed to step a loaded scene through its run.
 struct RunParts {
   nscd::Simulator& sim;
   const std::vector<nscd::BoundSchedule>& schedules;
   nscd::CsvWriter* writer;  // null: no CSV
   ProgressBar& progress;
-  const RunClock& clock;
+  const nscd::RunClock& clock;
 };
 
 // Steps to the end of the run: round(duration / dt) fixed steps, or adaptive ones
-// until the sim time reaches t0 + duration (scheduled_step.hpp, RunClock). `k` is the step being
+// until the sim time reaches t0 + duration (nscd::RunClock). `k` is the step being
 // taken (the problem dump names its files by it). Returns the exit status: 0, or
 // 3 if the state went non-finite (then reported on stderr).
 int stepToEnd(const RunParts& run, const RunOptions& o, long& k, RunTally& tally,
               const std::function<double()>& wall) {
   nscd::Simulator& sim = run.sim;
-  for (k = 1; !run.clock.finished(sim, k - 1, o.duration); ++k) {
+  for (k = 1; !run.clock.finished(sim, k - 1); ++k) {
     run.clock.prepare(sim, run.schedules, k);  // the command at the end of the step
     const nscd::StepStatus st = sim.step();
     const nscd::StepStats& s = sim.stats();
     tally.add(s, st);
     if (st == nscd::StepStatus::NonFinite) {
-      run.progress.finish(sim.state().t - run.clock.t0, wall());
+      run.progress.finish(sim.state().t - run.clock.start(), wall());
       std::cerr << "nscd_run: simulation failed at t=" << sim.state().t
                 << " s: non-finite state (last solver residual " << s.residual << " after "
                 << s.iterations << " iterations)" << std::endl;
       return 3;
     }
     if (run.writer && k % o.every == 0) run.writer->writeRow(sim);
-    if ((k & 255) == 0) run.progress.update(sim.state().t - run.clock.t0, wall());
+    if ((k & 255) == 0) run.progress.update(sim.state().t - run.clock.start(), wall());
   }
   return 0;
 }
@@ -325,7 +294,7 @@ int runAndReport(const RunOptions& o, nscd::Simulator& sim,
   if (dump) sim.setProblemObserver([&](const nscd::ProblemView& v) { dump->write(v, k); });
   const bool adaptive = sim.model().settings.step_control == nscd::StepControl::Adaptive;
   const long steps = static_cast<long>(std::llround(o.duration / h));
-  const RunClock clock(sim, o.duration);
+  const nscd::RunClock clock(sim, o.duration);
   // From a state file the commands are the state's (those of the run that wrote it).
   if (o.initial_state.empty()) nscd::applySchedules(schedules, 0.0, sim);
   if (writer) writer->writeRow(sim);
@@ -338,12 +307,12 @@ int runAndReport(const RunOptions& o, nscd::Simulator& sim,
   };
   const int status = stepToEnd({sim, schedules, writer, progress, clock}, o, k, tally, wall);
   const double wall_s = wall();
-  progress.finish(sim.state().t - clock.t0, wall_s);
+  progress.finish(sim.state().t - clock.start(), wall_s);
   if (dump) std::cerr << "nscd_run: " << dump->written() << " problems written to " << o.dump_dir << std::endl;
   if (dump) sim.setProblemObserver(nullptr);  // it refers to k, which ends here
   nscd::RunSummary summary;
   summary.steps = status == 0 ? k - 1 : k;
-  summary.sim_time = sim.state().t - clock.t0;  // simulated in this run
+  summary.sim_time = sim.state().t - clock.start();  // simulated in this run
   summary.wall_s = wall_s;
   summary.energy_initial = energy_initial;
   summary.energy_final = sim.energy().total();

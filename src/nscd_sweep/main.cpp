@@ -1,7 +1,8 @@
 // nscd_sweep: a parameter sweep of one scene (or of several: --scenes) over all
 // local cores, one shard of it for a scheduler (--shard i/n), and the merge of
 // shard CSVs (--merge). Runs may apply actuator schedules (--command) and write
-// their time series as nscd_run --csv does (--series DIR).
+// their time series as nscd_run --csv does (--series DIR), and start from a state
+// file (--initial-state).
 // Exit status: 0 done (even if some runs failed: see the status column), 2 bad input.
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include "csv_row.hpp"
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/scene_loader.hpp"
+#include "nscd_sim/state_file.hpp"
 #include "parallel_for.hpp"
 #include "run_case.hpp"
 #include "sweep_grid.hpp"
@@ -39,7 +41,7 @@ std::string wallText(double s) {
 
 // The command line's values (see --help).
 struct SweepOptions {
-  std::string scene, csv, shard = "0/1", series;
+  std::string scene, csv, shard = "0/1", series, initial_state;
   std::vector<std::string> scenes, params, sets, merge, commands;
   double duration = 0.1;
   int jobs = nscd::sweep::defaultJobs(), every = 1;
@@ -69,6 +71,9 @@ void declareOptions(CLI::App& app, SweepOptions& o) {
                  "also write run k's time series to DIR/run_<k>.csv (as nscd_run --csv) and "
                  "nscd_run's JSON line to DIR/run_<k>.json");
   app.add_option("--every", o.every, "with --series: a series row every N steps (default 1)");
+  app.add_option("--initial-state", o.initial_state,
+                 "start every run from this state file (as nscd_run --initial-state: --duration "
+                 "counts from its time); refused if it does not fit a scene");
   app.add_option("--merge", o.merge, "merge shard CSVs into one (sorted by run) on standard output");
   app.add_flag("--list", o.list, "print the runs of this shard and their parameters, run nothing");
   app.add_flag("--no-timing", o.no_timing, "leave out wall_s (output identical across reruns)");
@@ -123,6 +128,19 @@ void checkSweepOptions(SweepOptions& o) {
   if (o.every_given && o.series.empty()) throw BadInput{"--every needs --series DIR"};
 }
 
+// A state holds the poses of the scene's clearances (each pin in its hole): with
+// another clearance a run would start with pins inside the bearing wall or loose.
+// The other parameters (settings, friction, restitution, masses) leave the model's
+// bodies, joints and contacts as they are, which is all a state depends on
+// (include/nscd_sim/state_file.hpp); throws BadInput.
+void checkAxesFitAState(const SweepOptions& o, const std::vector<nscd::sweep::SweepAxis>& axes) {
+  if (o.initial_state.empty()) return;
+  for (const nscd::sweep::SweepAxis& a : axes)
+    if (a.key == "radial")
+      throw BadInput{"--param radial: a state file fits only the clearances it was written with; "
+                     "sweep radial without --initial-state, or write a state per clearance"};
+}
+
 // The sweep, checked: its axes, this shard, and every scene loaded with the
 // schedules bound to it. The runs only read it (each copies its model).
 struct Sweep {
@@ -130,6 +148,7 @@ struct Sweep {
   int shard_i = 0, shard_n = 1;
   std::vector<nscd::Model> bases;  // one per scene
   std::vector<std::vector<nscd::BoundSchedule>> schedules;  // one list per scene
+  std::vector<nscd::State> states;  // --initial-state, read for each scene (else empty)
   long points = 0;  // grid points per scene
   long total = 0;   // runs over all scenes and shards
 };
@@ -161,6 +180,16 @@ void addScene(const SweepOptions& o, const std::string& file,
   } catch (const std::invalid_argument& e) {
     throw BadInput{"--command: " + file + ": " + e.what()};
   }
+  if (!o.initial_state.empty()) {
+    // Checked against the scene (fingerprint, sizes, values) once, here; the runs
+    // share the state. No parameter changes what the check compares
+    // (checkAxesFitAState).
+    try {
+      sw.states.push_back(nscd::readStateFile(o.initial_state, nscd::Simulator(sw.bases.back())));
+    } catch (const nscd::StateFileError& e) {
+      throw BadInput{o.scene_axis ? std::string(e.what()) + " (scene " + file + ")" : std::string(e.what())};
+    }
+  }
   for (const nscd::sweep::SweepAxis& a : sw.axes)
     for (const std::string& v : a.values) {
       nscd::Model m = sw.bases.back();
@@ -178,6 +207,7 @@ Sweep loadSweep(const SweepOptions& o) {
   Sweep sw;
   try {
     for (const std::string& p : o.params) sw.axes.push_back(nscd::sweep::parseAxis(p));
+    checkAxesFitAState(o, sw.axes);
     nscd::sweep::parseShard(o.shard, sw.shard_i, sw.shard_n);
     const std::vector<nscd::SettingOverride> ov = fixedSettings(o);
     for (const std::string& file : o.scenes) addScene(o, file, ov, sw);
@@ -219,6 +249,7 @@ nscd::sweep::CaseMetrics runOne(const SweepOptions& o, const Sweep& sw, long k) 
     opt.duration = o.duration;
     opt.measure_violation = o.violation;
     opt.schedules = sw.schedules[s];
+    if (!sw.states.empty()) opt.initial_state = &sw.states[s];
     if (!o.series.empty()) {
       const std::string stem = (std::filesystem::path(o.series) / ("run_" + std::to_string(k))).string();
       opt.series_csv = stem + ".csv";

@@ -83,14 +83,14 @@ bool addStepOutcome(const Simulator& sim, StepStatus st, const CaseOptions& opts
   return true;
 }
 
-// Steps `sim` to opts.duration as nscd_run does, tallying into `r` and writing the
-// series rows; stops at a non-finite state or energy (status "nonfinite"). `k` is
-// the step being taken (the problem dump names its files by it).
-void stepCase(Simulator& sim, const CaseOptions& opts, CsvWriter* writer, long& k, CaseMetrics& r,
-              CaseTally& t) {
+// Steps `sim` through the run `clock` times as nscd_run does, tallying into `r` and
+// writing the series rows; stops at a non-finite state or energy (status
+// "nonfinite"). `k` is the step being taken (the problem dump names its files by it).
+void stepCase(Simulator& sim, const CaseOptions& opts, const RunClock& clock, CsvWriter* writer, long& k,
+              CaseMetrics& r, CaseTally& t) {
   const int every = std::max(1, opts.every);
-  for (k = 1; !runFinished(sim, k - 1, opts.duration); ++k) {
-    prepareScheduledStep(sim, opts.schedules, k, opts.duration);  // the command at the end of the step
+  for (k = 1; !clock.finished(sim, k - 1); ++k) {
+    clock.prepare(sim, opts.schedules, k);  // the command at the end of the step
     const StepStatus st = sim.step();
     r.steps = k;
     addStepStats(sim.stats(), r, t);
@@ -139,7 +139,12 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     Simulator sim(model);
-    applySchedules(opts.schedules, 0.0, sim);
+    // From a state the commands are the state's (those of the run that wrote it).
+    if (opts.initial_state)
+      sim.setState(*opts.initial_state);
+    else
+      applySchedules(opts.schedules, 0.0, sim);
+    const RunClock clock(sim, opts.duration);
     std::unique_ptr<CsvWriter> writer;
     if (!opts.series_csv.empty()) {
       writer = std::make_unique<CsvWriter>(opts.series_csv, sim);
@@ -154,9 +159,9 @@ CaseMetrics runCase(const Model& model, const CaseOptions& opts) {
       dump = std::make_unique<ProblemDump>(opts.dump_dir, opts.dump_when, opts.dump_prefix);
       sim.setProblemObserver([&](const ProblemView& v) { dump->write(v, k); });
     }
-    stepCase(sim, opts, writer.get(), k, r, tally);
+    stepCase(sim, opts, clock, writer.get(), k, r, tally);
     if (dump) r.problems_written = dump->written();
-    r.sim_time = sim.state().t;
+    r.sim_time = sim.state().t - clock.start();
     r.energy_final = sim.energy().total();
     r.iters_mean = r.steps > 0 ? static_cast<double>(tally.iters_sum) / r.steps : 0.0;
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -7,12 +7,17 @@
 
 #include "nscd_sim/command_schedule.hpp"
 #include "nscd_sim/model.hpp"
+#include "nscd_sim/simulator.hpp"
 #include "stage_counts.hpp"
 
 namespace nscd::sweep {
 
 struct CaseOptions {
   double duration = 0.1;          // simulated time, s (rounded to whole steps)
+  // If set, the run starts from this state (nscd_run --initial-state: its time,
+  // poses, velocities, warm starts and commands; the schedules continue from its
+  // time; sim_time counts from it). Not owned; read by concurrent runs.
+  const State* initial_state = nullptr;
   // Call Simulator::constraintViolation() after every step. Off by default: at the
   // time of writing that const query changes the following steps (see
   // docs/performance.md), so it is an opt-in cross-check.
@@ -35,7 +40,7 @@ struct CaseOptions {
 struct CaseMetrics {
   std::string status = "ok";  // ok | nonfinite | error: <message>
   long steps = 0;             // steps done
-  double sim_time = 0;
+  double sim_time = 0;        // simulated in this run (from a state: t - its t)
   double wall_s = 0;
   double iters_mean = 0;
   int iters_max = 0;
@@ -70,7 +75,8 @@ struct CaseMetrics {
   int problems_written = 0;  // CaseOptions::dump_dir
 };
 
-// Runs a copy of `model` for opts.duration; never throws (errors go to status).
+// Runs a copy of `model` for opts.duration (from opts.initial_state if set); never
+// throws (errors go to status).
 CaseMetrics runCase(const Model& model, const CaseOptions& opts);
 
 // Applies one sweep parameter to a loaded model. Keys: any settings key

@@ -51,4 +51,23 @@ bool runFinished(const Simulator& sim, long k, double duration) {
   return k >= std::llround(duration / sim.model().settings.dt);
 }
 
+RunClock::RunClock(const Simulator& sim, double duration)
+    : t0_(sim.state().t), duration_(duration), until_(t0_ + duration) {
+  const double dt = sim.model().settings.dt;
+  const double k0 = std::round(t0_ / dt);
+  first_step_ = std::abs(t0_ / dt - k0) <= 1e-6 ? static_cast<long>(k0) : -1;
+}
+
+void RunClock::prepare(Simulator& sim, const std::vector<BoundSchedule>& schedules, long k) const {
+  if (sim.model().settings.step_control == StepControl::Fixed && first_step_ < 0)
+    applySchedules(schedules, t0_ + k * sim.model().settings.dt, sim);
+  else
+    prepareScheduledStep(sim, schedules, first_step_ + k, until_);
+}
+
+bool RunClock::finished(const Simulator& sim, long k) const {
+  const bool adaptive = sim.model().settings.step_control == StepControl::Adaptive;
+  return runFinished(sim, k, adaptive ? until_ : duration_);
+}
+
 }  // namespace nscd
