@@ -6,6 +6,7 @@
 // velocity stage's factor and the rows kept for the next step.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 
 #include <Eigen/Cholesky>
@@ -466,6 +467,40 @@ TEST(EqualityPath, DirectStepAnswerIsTheSolversBitForBit) {
       for (int j = 0; j < t.ws.n; ++j) ASSERT_EQ(t.ws.vnew[j], v_general[j]) << scene << " dof " << j;
       advanceState(t.m, h, t.ws, t.s);
       trackJointPositions(t.m, t.s);
+    }
+  }
+}
+
+// The direct step's operator (assembleEqualityDelassus: W's lower triangle
+// from the pairs of blocks that share a body, and Y) against assembleDelassus's
+// dense assembly of M^-1's W, on the joints-only scenes and the ideal-joint C-60 model's joint rows, at
+// their assembled start and after 20 steps: equal bit for bit (tolerance 0;
+// memcmp, so a signed zero counts too).
+TEST(EqualityPath, EqualityOperatorIsTheDenseAssemblysLowerTriangle) {
+  for (const char* scene : {"urdf/pendulum.urdf", "test/scenes/double_pendulum.urdf", "urdf/fourbar.urdf",
+                            "urdf/slider_crank.urdf", "urdf/c60_ideal.urdf"}) {
+    StepHarness t(scene);
+    ASSERT_TRUE(t.ws.mass_inverse_by_body && t.ws.nbodies <= 64) << scene;  // (Ŵ = M^-1: jointOperator's)
+    for (int step = 0; step < 21; ++step) {
+      if (step > 0) {
+        t.velocityStage(1e-4);
+        advanceState(t.m, 1e-4, t.ws, t.s);
+        trackJointPositions(t.m, t.s);
+      }
+      if (step % 20 != 0) continue;
+      const MatrixXd W = t.jointOperator();
+      const MatrixXd Y = t.ws.Y.leftCols(t.ws.rows);
+      const int r = t.ws.rows;
+      ASSERT_GT(r, 0) << scene;
+      t.ws.W.setConstant(NAN);  // nothing is read from an earlier assembly
+      t.ws.Y.setConstant(NAN);
+      assembleEqualityDelassus(t.ws, r);
+      for (int j = 0; j < r; ++j) {
+        for (int i = j; i < r; ++i)
+          ASSERT_EQ(std::memcmp(&W(i, j), &t.ws.W(i, j), sizeof(double)), 0) << scene << " W " << i << " " << j;
+        for (int k = 0; k < t.ws.n; ++k)
+          ASSERT_EQ(std::memcmp(&Y(k, j), &t.ws.Y(k, j), sizeof(double)), 0) << scene << " Y " << k << " " << j;
+      }
     }
   }
 }

@@ -89,15 +89,16 @@ void keepForces(const StepOutputs& fine, const StepOutputs& coarse, double f, St
 
 // The answer of a smooth step (its paths unprojected) onto the joints, as a fixed
 // step's projection (Simulator::advance) does, the potential energy it adds
-// taken back from the kinetic energy.
-void projectSmoothStep(const Model& m, StepWorkspace& ws, State& s, StepStats& st) {
+// taken back from the kinetic energy as far as the step from `start` gained energy.
+void projectSmoothStep(const Model& m, const State& start, StepWorkspace& ws, State& s, StepStats& st) {
   const Settings& set = m.settings;
   if (!set.projection) return;
   const double pe_before = potentialEnergyOf(m, s).total();
   double violation = 0;
   st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
                                           violation, st, false);
-  if (st.projection_passes > 0) st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before, s);
+  if (st.projection_passes > 0)
+    st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before, totalEnergyOf(m, start), s);
   if (!ws.rows_keyed) clearConstraintRows(ws);
 }
 
@@ -294,7 +295,7 @@ StepStatus Simulator::stepAdaptive() {
   const double f = event ? 0.0 : kRichardsonFactor;
   if (!event) {
     if (a.order == 2) richardsonExtrapolate(a.coarse, f, state_);  // else the tableau's answer is in state_
-    if (a.tableau) projectSmoothStep(m, *ws_, state_, st);
+    if (a.tableau) projectSmoothStep(m, a.start, *ws_, state_, st);
     trackJointPositions(m, state_);
   }
   keepForces(a.fine_out, a.coarse_out, f, *out_);

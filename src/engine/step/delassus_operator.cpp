@@ -76,7 +76,90 @@ void assembleBlockRows(StepWorkspace& ws, int i0, bool masks, const double* Y, E
   }
 }
 
+// W's rows of block bi against those of an earlier (or the same) block bj, in W's
+// lower triangle (W_ij, i >= j, at W[j * ldw + i]): over the bodies both blocks
+// touch, dot6(G_i piece, Y_j piece) added to an entry zeroed before (+0), as
+// assembleBlockRows sums it (with at most two terms the bodies' order does not
+// change the sum: +0 + x + y is y + x's value for every x, y, signed zeros too).
+// gi: block bi's pieces, copied out of G; qi: their bodies.
+template <int S>
+void addBlockPair(const double (&gi)[6][2][6], const int (&qi)[2], int npi, const ConstraintBlock& bi,
+                  const ConstraintBlock& bj, const double* Y, Eigen::Index ldy, double* W, Eigen::Index ldw) {
+  const int ja = bj.body_a, jb = bj.body_b == bj.body_a ? kGround : bj.body_b;
+  const bool same = &bi == &bj;
+  for (int q = 0; q < npi; ++q) {
+    const int body = qi[q];
+    if (body != ja && body != jb) continue;
+    for (int c = 0; c < bj.size; ++c) {
+      const int j = bj.row + c;
+      const double* y = Y + j * ldy + 6 * body;
+      double* wc = W + j * ldw + bi.row;  // column j at block bi's first row
+      for (int a = same ? c : 0; a < S; ++a) wc[a] += dot6(gi[a][q], y);
+    }
+  }
+}
+
+template <int S>
+void assembleLowerBlockRows(const StepWorkspace& ws, int bi, const double* Y, Eigen::Index ldy, double* W,
+                            Eigen::Index ldw) {
+  const ConstraintBlock& blk = ws.blocks[bi];
+  double g[6][2][6];
+  int qi[2] = {kGround, kGround};
+  int np = 0;
+  const Eigen::Index ldg = ws.G.outerStride();
+  for (int body : {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b}) {
+    if (body == kGround) continue;
+    const double* gc = ws.G.data() + blk.row + 6 * body * ldg;
+    for (int a = 0; a < S; ++a)
+      for (int k = 0; k < 6; ++k) g[a][np][k] = gc[a + k * ldg];
+    qi[np++] = body;
+  }
+  for (int bj = 0; bj <= bi; ++bj) addBlockPair<S>(g, qi, np, blk, ws.blocks[bj], Y, ldy, W, ldw);
+}
+
 }  // namespace
+
+void assembleEqualityDelassus(StepWorkspace& ws, int r) {
+  // Each row's bodies and the bodies of its column of Y (its own: Ŵ = M^-1 is
+  // block-diagonal), as assembleDelassus sets them for applyImpulses.
+  for (const ConstraintBlock& blk : ws.blocks) {
+    const int b = blk.body_b == blk.body_a ? kGround : blk.body_b;
+    std::uint64_t support = 0;
+    for (int body : {blk.body_a, b})
+      if (body != kGround) support |= std::uint64_t{1} << body;
+    for (int k = 0; k < blk.size; ++k) {
+      ws.row_bodies[blk.row + k] = {blk.body_a, b};
+      ws.row_support[blk.row + k] = support;
+    }
+  }
+  const int n = ws.n;
+  const Eigen::Index ldg = ws.G.outerStride();
+  for (int i = 0; i < r; ++i) {
+    double* y = ws.Y.col(i).data();
+    for (int k = 0; k < n; ++k) y[k] = 0;
+    for (int body : ws.row_bodies[i])
+      if (body != kGround)
+        applyBodyInverse(ws.body_mass_inverse[body], ws.G.data() + i + 6 * body * ldg, ldg, y + 6 * body);
+  }
+  double* W = ws.W.data();
+  const Eigen::Index ldw = ws.W.outerStride();
+  for (int j = 0; j < r; ++j)
+    for (int i = j; i < r; ++i) W[j * ldw + i] = 0;
+  const double* Y = ws.Y.data();
+  const Eigen::Index ldy = ws.Y.outerStride();
+  for (int bi = 0; bi < int(ws.blocks.size()); ++bi) {
+    if (ws.blocks[bi].row >= r) continue;
+    switch (ws.blocks[bi].size) {
+      case 1: assembleLowerBlockRows<1>(ws, bi, Y, ldy, W, ldw); break;
+      case 2: assembleLowerBlockRows<2>(ws, bi, Y, ldy, W, ldw); break;
+      case 3: assembleLowerBlockRows<3>(ws, bi, Y, ldy, W, ldw); break;
+      case 4: assembleLowerBlockRows<4>(ws, bi, Y, ldy, W, ldw); break;
+      case 5: assembleLowerBlockRows<5>(ws, bi, Y, ldy, W, ldw); break;
+      case 6: assembleLowerBlockRows<6>(ws, bi, Y, ldy, W, ldw); break;
+      default: break;  // no block has more than 6 rows (ConstraintBlock::error)
+    }
+  }
+}
 
 void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
                       StepWorkspace& ws, int from, int r) {

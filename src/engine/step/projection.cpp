@@ -226,8 +226,12 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     if (!solved) replaceUnsolvedPass(ws, st);
     if (!ws.dq.allFinite()) return pass;
     rows_current = false;
-    if (pass == 0) applyDisplacement(s, ws.dq);
-    else rows_current = applyWithBacktracking(m, s, ws, violation, hint);
+    if (pass == 0) {
+      ws.unprojected_bodies = s.bodies;  // same size: no allocation (the energy take-back's reference)
+      applyDisplacement(s, ws.dq);
+    } else {
+      rows_current = applyWithBacktracking(m, s, ws, violation, hint);
+    }
   }
 }
 

@@ -109,6 +109,11 @@ void writeJacobianRows(const State& s, const ConstraintBlock& blk, Eigen::Matrix
 // bodies, so each row is mapped by its bodies' 6 x 6 blocks alone.
 void assembleDelassus(const Eigen::MatrixXd& iteration_inverse, bool block_diagonal,
                       StepWorkspace& ws, int from, int r);
+// The same W's lower triangle alone (the upper is left as it was) and Y, for
+// rows [0, r), where Ŵ = M^-1 in the form bodies have (!facts.stiff,
+// mass_inverse_by_body) and nbodies <= 64: the direct equality step's operator,
+// bit for bit assembleDelassus's there, from each pair of blocks that share a body.
+void assembleEqualityDelassus(StepWorkspace& ws, int r);
 
 // ---- 4a. the friction-contact problem (friction_contact_problem.cpp): b = G v_free
 // minus the bilateral targets plus the Newton impact shift e U_N,k, the problem
@@ -195,10 +200,16 @@ EnergyReport potentialEnergyOf(const Model& m, const State& s);
 double kineticEnergyOf(const Model& m, const State& s);
 // Kinetic energy of a generalized velocity (linear world, angular body frame).
 double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
-// Potential energy the projection added beyond potential_before (the energy before
-// it plus the inputs' work in the step) is taken back from the kinetic energy of
-// the bodies whose motion is not prescribed. Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, State& s);
+// Kinetic plus potential energy of the state.
+double totalEnergyOf(const Model& m, const State& s);
+// Potential energy the projection added beyond potential_before (the potential
+// before it plus the inputs' work in the step), as far as the step as a whole
+// gained energy beyond energy_before (the energy at the step's start plus the
+// inputs' work), taken back from the kinetic energy of the bodies whose motion is
+// not prescribed: first from the velocity against the projection's correction
+// (from ws.unprojected_bodies), the rest by one common factor. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, double energy_before,
+                                State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement), position servos (effort x joint motion) and
 // springs applied as body-fixed loads (their power at the step's end x h).

@@ -115,6 +115,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.mass_inverse = Eigen::MatrixXd::Zero(n, n);
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
+  ws.unprojected_bodies.resize(m.bodies.size());
   ws.rows_key.resize(m.bodies.size());
   ws.rows_keyed = false;
   ws.saved_dq.setZero(ws.n);
