@@ -89,7 +89,9 @@ namespace {
 
 bool finite(double x) { return std::isfinite(x); }
 
-void checkOutputs(const nscd::Simulator& sim, int k, std::vector<double>& figures) {
+}  // namespace
+
+void checkStepOutputs(const nscd::Simulator& sim, int k, std::vector<double>& figures) {
   const nscd::State& s = sim.state();
   const auto where = [&](const std::string& what) {
     return "step " + std::to_string(k) + " reported finite but " + what + " is not finite";
@@ -116,8 +118,6 @@ void checkOutputs(const nscd::Simulator& sim, int k, std::vector<double>& figure
     if (!c.point.allFinite() || !c.normal.allFinite() || !finite(c.gap) || !finite(c.fn) || !c.ft.allFinite())
       fail(where("a contact report"));
 }
-
-}  // namespace
 
 void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingCommand>& commands,
                   const std::vector<std::string>& schedules, const std::vector<int>& resets) {
@@ -152,7 +152,7 @@ void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingComman
     summary.iters_sum += st.iterations;
     summary.residual_max = std::max(summary.residual_max, st.residual);
     if (status == nscd::StepStatus::NonFinite) break;  // reported: the runner stops (status 3)
-    checkOutputs(*sim, k, figures);
+    checkStepOutputs(*sim, k, figures);
     csv.writeRow(*sim);
   }
   summary.sim_time = sim->state().t;

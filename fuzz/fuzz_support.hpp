@@ -11,6 +11,7 @@
 
 #include "nscd_sim/model.hpp"
 #include "nscd_sim/problem_file.hpp"
+#include "nscd_sim/simulator.hpp"
 
 namespace nscd_fuzz {
 
@@ -46,6 +47,11 @@ bool boundedBudget(const nscd::Settings& settings);
 // NonFinite, the state, energies, contact reports and every key figure must be
 // finite (but a named contact's gap, +inf when its shapes have no point to measure).
 // `on_step(k, sim)` runs before step k (commands); may be empty.
+// After step k of `sim` (not reported NonFinite): the state, energies, contact
+// reports and every key figure are finite (a named contact's gap may be +inf),
+// else aborts. `figures` is scratch space kept across calls.
+void checkStepOutputs(const nscd::Simulator& sim, int k, std::vector<double>& figures);
+
 struct SteppingCommand {
   int step = 0;  // before this step
   int actuator = 0;

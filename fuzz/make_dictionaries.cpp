@@ -3,6 +3,7 @@
 // attributes and type values), the setting keys, plus the URDF elements the
 // loader reads and the words of the other formats. Run by scripts/fuzz.sh.
 //   make_dictionaries DIR   -> DIR/scene.dict settings.dict schedule.dict problem.dict stepping.dict
+//                           state.dict
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -103,13 +104,24 @@ int main(int argc, char** argv) {
     stepping.add(w);
   for (const std::string& k : nscd::settingKeys()) stepping.add("set " + k + "=");
 
+  // State files (src/engine/step/state_file.cpp): the keys, hex floats.
+  Dict state;
+  for (const char* w : {"nscd-state 1\n", "# ", "model ", " bodies ", " joints ", " clearance_joints ",
+                        " contacts ", " actuators ", "sizes warm ", " bilateral ", " ring_hint ", "\nt ",
+                        "\nstep_next ", "\nstep_error ", "\nbody ", "\ncommands", "\nprev_commands",
+                        "\nwarm ", "\nbilateral", "\nring_hint", "\njoint_position", "\nchecksum ", " 0", " 1",
+                        "0x1p+0", "-0x1p+0", "0x0p+0", "-0x0p+0", "0x1.fffffffffffffp+1023", "0x1p-1074",
+                        "0x1p+1024", "0x1.6a09e667f3bcdp-1", "-nan", "0X1P+0", "0x.8p1", "0x1p", "p+"})
+    state.add(w);
+
   for (const std::string& n : kNumbers) {
-    for (Dict* d : {&scene, &settings, &schedule, &problem, &stepping}) d->add(n);
+    for (Dict* d : {&scene, &settings, &schedule, &problem, &stepping, &state}) d->add(n);
   }
   scene.write(dir + "/scene.dict");
   settings.write(dir + "/settings.dict");
   schedule.write(dir + "/schedule.dict");
   problem.write(dir + "/problem.dict");
   stepping.write(dir + "/stepping.dict");
+  state.write(dir + "/state.dict");
   return 0;
 }

@@ -29,6 +29,7 @@ set_option|settings|fuzz/seeds/set_option|20
 settings_yaml|settings|fuzz/seeds/settings_yaml config|20
 problem_file|problem|test/problems|20
 stepping|stepping|fuzz/seeds/stepping|60
+state_file|state|fuzz/seeds/state_file|20
 fclib_from_nscd|problem|test/problems|20
 fclib_reader|-||20
 node_config|settings|config fuzz/seeds/settings_yaml|20|master

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "nscd_sim/command_schedule.hpp"
+#include "nscd_sim/key_figures.hpp"
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
@@ -293,4 +294,58 @@ TEST(StateFile, NscdRunRefusesBadStateFiles) {
   EXPECT_EQ(r.err, "nscd_run: --save-state /nonexistent_folder/x.state: cannot write this file\n");
   EXPECT_EQ(r.out, "") << "refused before the run";
   std::remove(pendulum_state.c_str());
+}
+
+// Found by fuzz/state_file_fuzzer.cpp: a step_next of 5e-324 s (>= 0, so read) was
+// the adaptive clearance pendulum's next step, and its clearance joint's force
+// (impulse / h) infinite in a step reported finite. planStep clamps the length a
+// state proposes to [h_min, h_max] of the run's settings.
+TEST(StateFile, TinyStepNextIsClampedToTheShortestStep) {
+  const std::vector<SettingOverride> adaptive = {{"step_control", "adaptive", "test"}};
+  Simulator sim(loadModel("urdf/clearance_pendulum.urdf", adaptive));
+  for (int i = 0; i < 100000 && sim.contactPoints().empty(); ++i) ASSERT_NE(sim.step(), StepStatus::NonFinite);
+  const std::string path = tempPath("tiny_step_next");
+  writeStateFile(path, sim);
+  std::string body = withoutChecksum(readAll(path));
+  const size_t a = body.find("\nstep_next ") + 11;
+  body.replace(a, body.find('\n', a) - a, "0x1p-1074");
+  writeAll(path, withChecksum(body));
+
+  Simulator resumed(loadModel("urdf/clearance_pendulum.urdf", adaptive));
+  loadStateFile(path, resumed);
+  EXPECT_EQ(resumed.state().step_next, 0x1p-1074);
+  const double h_min = 1e-6 * resumed.model().settings.dt;  // dt_min unset: 1e-6 dt
+  ASSERT_NE(resumed.step(), StepStatus::NonFinite);
+  EXPECT_GE(resumed.stats().h, h_min * (1 - 1e-12));
+  EXPECT_GT(resumed.state().t, sim.state().t);
+  const std::vector<ContactReport> contacts = resumed.contactPoints();
+  EXPECT_FALSE(contacts.empty()) << "the pendulum rests on its clearance at t = " << sim.state().t;
+  for (const ContactReport& c : contacts) EXPECT_TRUE(std::isfinite(c.fn) && c.ft.allFinite()) << c.fn;
+  std::vector<double> figures;
+  keyFigureValues(resumed, figures);
+  const std::vector<std::string> names = keyFigureNames(resumed.model());
+  for (size_t i = 0; i < figures.size(); ++i) EXPECT_TRUE(std::isfinite(figures[i])) << names[i];
+  std::remove(path.c_str());
+}
+
+// Found while writing the fuzz target: t = 1e300 was read, and nscd_run's clock
+// converted t / dt (1e305) to a long (undefined). |t| / dt must stay below 2^62;
+// 10^6 s at dt 1e-5 (t / dt = 1e11) is read.
+TEST(StateFile, TimeBeyondTheStepCountIsRefused) {
+  Simulator sim(loadModel("urdf/clearance_pendulum.urdf"));
+  const std::string path = tempPath("huge_t");
+  writeStateFile(path, sim);
+  const std::string body = withoutChecksum(readAll(path));
+  const size_t a = body.find("\nt ") + 3;
+  const auto withTime = [&](const std::string& t) {
+    writeAll(path, withChecksum(std::string(body).replace(a, body.find('\n', a) - a, t)));
+  };
+  withTime("0x1p+1000");
+  EXPECT_EQ(readError(path, sim),
+            path + ":4: t = 1.07151e+301 s is beyond this run's step count (|t| / dt >= 2^62, dt = 1e-05 s)");
+  withTime("-0x1p+1000");
+  EXPECT_NE(readError(path, sim).find(":4: t = -1.07151e+301 s is beyond"), std::string::npos);
+  withTime("1e6");
+  EXPECT_EQ(readError(path, sim), "");
+  std::remove(path.c_str());
 }

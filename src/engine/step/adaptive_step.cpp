@@ -134,7 +134,9 @@ double Simulator::planStep(double until) {
   const Settings& set = model_.settings;
   if (set.step_control != StepControl::Adaptive) return state_.t + set.dt;
   const StepLengths lim = stepLengths(set);
-  const double proposal = state_.step_next > 0 ? std::min(state_.step_next, lim.h_max) : lim.h_max;
+  // Clamped both ways: a state set from outside (a state file, set_state) may hold
+  // any step_next >= 0; 5e-324 s made the forces (impulse / h) infinite.
+  const double proposal = state_.step_next > 0 ? std::clamp(state_.step_next, lim.h_min, lim.h_max) : lim.h_max;
   double h = proposal;
   planned_end_ = NAN;
   const double remaining = until - state_.t;

@@ -335,6 +335,14 @@ State readStateFile(const std::string& path, const Simulator& sim) {
   readShape(r, want);
   State s;
   s.t = readScalar(r, "t");
+  // The front ends count steps from t as a long (nscd_run's clock, the Python
+  // module's step count): t = 1e300 made nscd_run convert 1e305 to a long.
+  const double dt = sim.model().settings.dt;
+  if (!(std::abs(s.t) / dt < 0x1p62)) {
+    std::ostringstream o;
+    o << "t = " << s.t << " s is beyond this run's step count (|t| / dt >= 2^62, dt = " << dt << " s)";
+    r.fail(o.str());
+  }
   s.step_next = readScalar(r, "step_next");
   if (s.step_next < 0) r.fail("step_next must be >= 0");
   s.step_error = readScalar(r, "step_error");
