@@ -141,6 +141,19 @@ def checksum(paths):
     return h.hexdigest()[:16]
 
 
+def engine_checksum(exe):
+    """The checksum of nscd_run and of the engine library it loads (where the physics is):
+    a cached run of another engine is not reused."""
+    paths = [exe]
+    try:
+        out = subprocess.run(['ldd', exe], capture_output=True, text=True, check=True).stdout
+        paths += [line.split('=>')[1].split('(')[0].strip() for line in out.splitlines()
+                  if 'libnscd_engine' in line and '=>' in line]
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    return checksum(paths)
+
+
 def rel_errors(f, ref):
     e = {}
     for k in ('touch_s', 'release_s', 'c7_open_s'):
@@ -168,8 +181,8 @@ def main():
     exe = nscd_run_path(repo)
     sets = sum((['--set', s] for s in a.set), [])
 
-    # Fixed steps do not depend on the adaptive code: the binary is recorded, not keyed on.
-    key = {'scene': checksum([a.scene]), 'dt': a.ref, 'set': a.set}
+    # Keyed on the engine too: a change of the physics must not reuse an old reference.
+    key = {'scene': checksum([a.scene]), 'dt': a.ref, 'set': a.set, 'engine': engine_checksum(exe)}
     cache = a.ref_cache or os.path.join(repo, '.build', 'c60_trip_reference_%g.json' % a.ref)
     ref = None
     if os.path.exists(cache):
@@ -183,7 +196,7 @@ def main():
     if ref is None:
         print('reference: fixed dt %g (nice; minutes) ...' % a.ref, file=sys.stderr, flush=True)
         summary, fig = run(exe, a.scene, ['--dt', repr(a.ref)] + sets, nice=True, arrays=a.ref_arrays)
-        ref = {'key': key, 'binary': checksum([exe]), 'figures': fig, 'steps': summary['steps'], 'wall_s': summary['wall_s'],
+        ref = {'key': key, 'figures': fig, 'steps': summary['steps'], 'wall_s': summary['wall_s'],
                'unconverged': summary['unconverged_steps']}
         os.makedirs(os.path.dirname(cache), exist_ok=True)
         with open(cache, 'w') as f:

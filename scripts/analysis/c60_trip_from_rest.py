@@ -16,7 +16,8 @@ figures of issue 29 and the wall time of each step control, every run started by
    every step's CSV row (read through a pipe; definitions and errors of
    scripts/analysis/c60_trip_accuracy.py), then the wall: nscd_run's own wall_s
    (the stepping loop) of runs without CSV, the best of --repeat.
-The caches are keyed on the scene's checksum and the settings; the binary is recorded.
+The caches are keyed on the scene's checksum, the settings and the engine (nscd_run and
+libnscd_engine.so): a rebuilt engine makes the rest and the reference again.
 """
 import argparse
 import json
@@ -85,7 +86,8 @@ def main():
     exe = acc.nscd_run_path(REPO)
     scene_sum = acc.checksum([a.scene])
 
-    rest, rest_info = rest_state(exe, a.scene, a, {'scene': scene_sum, 'dt': a.rest_dt, 'at': a.at})
+    engine = acc.engine_checksum(exe)
+    rest, rest_info = rest_state(exe, a.scene, a, {'scene': scene_sum, 'dt': a.rest_dt, 'at': a.at, 'engine': engine})
     from_rest = ['--initial-state', rest, '--duration', repr(a.until - a.at)]
     ref_path = os.path.join(REPO, '.build', 'c60_trip_from_rest_ref_%g_%g_%g_%g.json' % (a.rest_dt, a.at, a.ref,
                                                                                         a.until))
