@@ -108,7 +108,8 @@ def after_opening(d, f):
         r['c3_closed_from_ms'] = round(1e3 * float(t[open_[-1] + 1]), 2) if len(open_) and open_[-1] + 1 < len(t) else None
     last = t >= t[-1] - 1e-3
     r['c3_force_last_ms_N'] = round(float(np.mean(c3_fn[last])), 2)
-    r['ecc_max'] = round(float(max(np.max(d[j + '.ecc']) for j in JOINTS if j + '.ecc' in d.dtype.names)), 4)
+    ecc = [np.max(d[j + '.ecc']) for j in JOINTS if j + '.ecc' in d.dtype.names]
+    r['ecc_max'] = round(float(max(ecc)), 4) if ecc else None  # None: ideal joints, no bearing to leave
     r['bar_wz_end_rad_s'] = round(float(d['trip_bar.wz'][-1]), 1)
     r['probe_spin_max_rad_s'] = round(float(np.max(np.abs(d['probe.wx']))), 1)
     return r
