@@ -19,7 +19,6 @@
 //     --command push=0:1 (3).
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,14 +64,7 @@ std::string withChecksum(std::string text) {
     if (text.back() == '\n' && text.compare(start, 9, "checksum ") == 0) text.resize(start);
   }
   if (!text.empty() && text.back() != '\n') text += '\n';
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  char line[40];
-  std::snprintf(line, sizeof line, "checksum %016llx\n", static_cast<unsigned long long>(h));
-  return text + line;
+  return text + nscd::stateChecksumLine(text);
 }
 
 bool allFinite(const std::vector<double>& v) {

@@ -5,8 +5,6 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -86,17 +84,8 @@ void writeAll(const std::string& path, const std::string& text) {
   f << text;
 }
 
-// The checksum line the file format ends with (64-bit FNV-1a of the text above it).
-std::string withChecksum(const std::string& body) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (unsigned char c : body) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "checksum %016llx\n", static_cast<unsigned long long>(h));
-  return body + buf;
-}
+// The body and the checksum line the file format ends with.
+std::string withChecksum(const std::string& body) { return body + stateChecksumLine(body); }
 
 std::string withoutChecksum(const std::string& text) {
   return text.substr(0, text.rfind("checksum "));

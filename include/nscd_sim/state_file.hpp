@@ -27,6 +27,11 @@ class StateFileError : public std::runtime_error {
 // continued with another dt, friction or step control on purpose.
 std::string stateFingerprint(const Model& model);
 
+// The line a state file ends with, for the text above it: "checksum " and 16 hex
+// digits of a 64-bit FNV-1a hash of the text, and a newline (tools that edit a state
+// file on purpose, tests, the fuzz target, write it again with this).
+std::string stateChecksumLine(const std::string& text);
+
 // Writes sim.state() to `path` (`note`: a comment line, e.g. the command that made
 // it). Throws StateFileError if the file cannot be written.
 void writeStateFile(const std::string& path, const Simulator& sim, const std::string& note = "");

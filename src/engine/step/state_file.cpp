@@ -291,6 +291,8 @@ std::string stateFingerprint(const Model& m) {
   return hex64(fnv1a(names));
 }
 
+std::string stateChecksumLine(const std::string& text) { return "checksum " + hex64(fnv1a(text)) + '\n'; }
+
 void writeStateFile(const std::string& path, const Simulator& sim, const std::string& note) {
   const State& s = sim.state();
   std::ostringstream o;
@@ -323,7 +325,7 @@ void writeStateFile(const std::string& path, const Simulator& sim, const std::st
   const std::string text = o.str();
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   if (!f) throw StateFileError(path + ": cannot write the state file");
-  f << text << "checksum " << hex64(fnv1a(text)) << '\n';
+  f << text << stateChecksumLine(text);
   f.close();
   if (!f) throw StateFileError(path + ": writing the state file failed");
 }
