@@ -32,6 +32,9 @@ function(nscd_sweep_link_tests)
     target_link_libraries(test_stress_short nscd_sweep_core Threads::Threads)
     add_dependencies(test_stress_short nscd_sweep)  # runs the tool (sweep over scenes, series)
   endif()
+  if(TARGET test_work_precision_tool)
+    add_dependencies(test_work_precision_tool nscd_work_precision)  # runs the tool
+  endif()
 endfunction()
 cmake_language(DEFER CALL nscd_sweep_link_tests)
 

@@ -43,7 +43,7 @@ struct Scene {
   std::string path;   // ... or a scene file
   double duration = 0.2;
   double sample_dt = 1e-3;
-  std::vector<nscd::CommandSchedule> commands;
+  std::vector<std::string> commands;  // --command texts NAME=t0:v0,... (checked when read)
 };
 
 struct Trace {
@@ -101,9 +101,13 @@ Trace runTrace(const Scene& s, double h, double tol, double adaptive_tol) {
     const long samples = std::llround(s.duration / s.sample_dt);
     if (!adaptive && (stride < 1 || std::abs(stride * h - s.sample_dt) > 1e-9 * s.sample_dt))
       throw std::runtime_error("h does not divide the sample interval");
-    std::vector<nscd::BoundSchedule> schedules;
-    for (const nscd::CommandSchedule& c : s.commands)
-      if (sim.model().findActuator(c.actuator) >= 0) schedules.push_back({sim.model().findActuator(c.actuator), c});
+    // The --command schedules of the scene's actuators (one list serves every scene
+    // file), and the scene's own schedules for the others, as nscd_run binds them: the
+    // C-60's seating moment is one.
+    std::vector<std::string> texts;
+    for (const std::string& c : s.commands)
+      if (sim.model().findActuator(nscd::parseCommandSchedule(c).actuator) >= 0) texts.push_back(c);
+    const std::vector<nscd::BoundSchedule> schedules = nscd::bindCommandSchedules(texts, sim.model());
     const int nb = static_cast<int>(sim.model().bodies.size());
     tr.pos.reserve(static_cast<size_t>(std::max(0L, samples) + 1) * nb * 3);  // no allocation while timed
     tr.force.reserve(static_cast<size_t>(std::max(0L, samples)));
@@ -259,13 +263,12 @@ int main(int argc, char** argv) {
     for (const Scene& s : builtinScenes(source_dir))
       if (std::find(wanted.begin(), wanted.end(), s.name) != wanted.end()) scenes.push_back(s);
     if (scenes.size() != wanted.size()) throw std::invalid_argument("unknown scene in --scenes " + scenes_arg);
-    std::vector<nscd::CommandSchedule> sched;
-    for (const std::string& c : commands) sched.push_back(nscd::parseCommandSchedule(c));
+    for (const std::string& c : commands) nscd::parseCommandSchedule(c);  // a bad schedule fails here
     for (const std::string& f : file_scenes) {
       const size_t eq = f.find('=');
       if (eq == std::string::npos) throw std::invalid_argument("--scene-file " + f + ": expected NAME=PATH");
       Scene s{f.substr(0, eq), "", f.substr(eq + 1), file_duration, file_sample_dt, {}};
-      s.commands = sched;
+      s.commands = commands;
       load(s, hs.front(), tols.front());  // fail now, not after the long runs
       scenes.push_back(s);
     }
