@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "solve_run.hpp"
 #include "solver_schedule.hpp"
@@ -23,10 +24,13 @@ using BVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxBilateral, 1>;
 
 constexpr double kRelZeroDiag = 1e-13;  // as problem_setup.cpp: a zero row
 
+// Summed in 64 bits: a caller's block with a row near INT_MAX overflowed an int
+// (undefined; it wrapped to a negative m, and the solve answered NoRows, converged).
+// Such a block is refused by validBlocks; m is capped so that it is one.
 int problemRows(const std::vector<ProblemBlock>& blocks) {
-  int m = 0;
-  for (const ProblemBlock& bl : blocks) m = std::max(m, bl.row + bl.size);
-  return m;
+  Eigen::Index m = 0;
+  for (const ProblemBlock& bl : blocks) m = std::max(m, Eigen::Index(bl.row) + bl.size);
+  return int(std::min<Eigen::Index>(m, std::numeric_limits<int>::max()));
 }
 
 // A pull (P_N < 0) is no answer of the contact law, however small it is
@@ -68,7 +72,7 @@ bool allBilateral(const std::vector<ProblemBlock>& blocks) {
 bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
   for (const ProblemBlock& bl : blocks) {
     const int want = bl.kind == BlockKind::Frictional ? 3 : bl.kind == BlockKind::Frictionless ? 1 : -1;
-    if (bl.row < 0 || bl.size < 1 || bl.row + bl.size > rows) return false;
+    if (bl.row < 0 || bl.size < 1 || Eigen::Index(bl.row) + bl.size > rows) return false;
     if (want > 0 ? bl.size != want : bl.size > kMaxBilateral) return false;
   }
   return true;
