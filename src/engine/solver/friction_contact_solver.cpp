@@ -78,6 +78,31 @@ bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
   return true;
 }
 
+// Every row 0..m-1 in exactly one block, as the engine builds its problems (each
+// block where the one before ends: checked without the marks). The Newton's
+// Jacobian and right-hand side, its row scaling and the interior point's
+// directions are written block by block: a row in no block or in two kept what
+// an earlier solve (or the allocator) had left there, and the answer depended
+// on the solver's history. covered: m entries of scratch.
+bool blocksTileRows(const std::vector<ProblemBlock>& blocks, int m, std::vector<char>& covered) {
+  int next = 0;
+  bool consecutive = true;
+  for (const ProblemBlock& bl : blocks) {
+    consecutive = consecutive && bl.row == next;
+    next += bl.size;  // each at most m (validBlocks): no overflow before the test below
+    if (next > m) return false;
+  }
+  if (next != m) return false;
+  if (consecutive) return true;
+  std::fill_n(covered.begin(), m, char(0));
+  for (const ProblemBlock& bl : blocks)
+    for (int i = bl.row; i < bl.row + bl.size; ++i) {
+      if (covered[i]) return false;
+      covered[i] = 1;
+    }
+  return true;  // m rows covered by m block rows, none twice: each once
+}
+
 // One frictional contact (a pin in its hole, a body on a plane): the local
 // solver's answer is the problem's. Checked on the problem's own error; the
 // general path takes over (from this answer) if it falls short. True if solved.
@@ -263,6 +288,8 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   if (solveSingleContact(W, b, blocks, options, P, rep)) return rep;
   double maxDiag = 0;
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
+  growBuffers(buffers_, m, false);  // the schedules grow the Newton's buffers as they need them
+  if (!blocksTileRows(blocks, m, buffers_.zeroRow)) return rep;
   const bool equalityOnly =
       allBilateral(blocks) && !(options.skip_stages >> static_cast<int>(SolverStage::Equalities) & 1);
   if (!equalityOnly) return solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);
