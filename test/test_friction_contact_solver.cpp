@@ -1152,6 +1152,28 @@ TEST(SolverStage, ReportNamesTheStageThatGaveTheAnswer) {
   EXPECT_EQ(s.solve(Wbad, b, blocks, o, P).stage, SolverStage::Failed);
 }
 
+// A block past W's rows is refused (Failed), whatever its row: row + size was summed
+// in int, and a row near INT_MAX wrapped to a negative row count, answered as a
+// problem without rows, converged.
+TEST(SolverStage, BlockPastTheRowsFailsWhateverItsRow) {
+  Matrix3d W;
+  W << 2, 0.3, 0.1, 0.3, 1.5, 0.2, 0.1, 0.2, 1.8;
+  const VectorXd b = Vector3d(-1, 0.2, 0.1);
+  const int big = std::numeric_limits<int>::max();
+  for (const ProblemBlock& bad : {ProblemBlock{BlockKind::Frictional, big, 3, 0.5},
+                                  ProblemBlock{BlockKind::Frictional, big - 2, 3, 0.5},
+                                  ProblemBlock{BlockKind::Bilateral, 1, big, 0},
+                                  ProblemBlock{BlockKind::Frictional, 1, 3, 0.5}}) {
+    FrictionContactSolver s;
+    VectorXd P = VectorXd::Zero(3);
+    const SolverReport r = s.solve(W, b, {bad}, SolverOptions{}, P);
+    EXPECT_FALSE(r.converged) << "row " << bad.row << " size " << bad.size;
+    EXPECT_EQ(r.stage, SolverStage::Failed) << "row " << bad.row << " size " << bad.size << ": "
+                                            << solverStageName(r.stage);
+    EXPECT_EQ(solverError(W, b, P, {bad}), INFINITY) << "row " << bad.row << " size " << bad.size;
+  }
+}
+
 TEST(SolverStage, NamesAreDistinctSnakeCase) {
   std::set<std::string> names;
   for (int i = 0; i < kSolverStageCount; ++i) {

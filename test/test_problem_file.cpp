@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,65 @@ TEST(ProblemFile, NotAProblemFileIsRefusedWithItsName) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
+  std::remove(path.c_str());
+}
+
+namespace {
+
+// A one-contact problem file whose header says `rows` and whose block line is `block`.
+std::string oneContactFile(const std::string& rows, const std::string& block) {
+  return "nscd-friction-contact-problem 1\nt 0 round 0 rows " + rows + " blocks 1\n"
+         "residual 0 converged 0 iterations 0\n" + block + "\n"
+         "W 2 0 0\nW 0 2 0\nW 0 0 2\nb -1 0 0\nP_start 0 0 0\nP 0.5 0 0\n";
+}
+
+// readProblemFile(path) refuses with one std::runtime_error naming the file; anything
+// else (accepted, another exception) is a failure.
+void expectRefusedWithItsName(const std::string& path, const std::string& what) {
+  try {
+    readProblemFile(path);
+    ADD_FAILURE() << what << ": accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path + ": not a problem file: ", 0), 0u) << what << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << what << ": " << message;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << what << ": not a refusal but " << typeid(e).name() << ": " << e.what();
+  }
+}
+
+}  // namespace
+
+// The problem_file fuzz target's finding: a rows count the file does not hold was
+// allocated before any row was read. 2147483647 rows asked Eigen for 2^62 entries,
+// whose std::bad_alloc (not a refusal) ended the fuzz target and would have ended
+// nscd_solve_problems with "std::bad_alloc" alone; a million rows asked for 8 TB.
+TEST(ProblemFile, RowsCountBeyondWhatTheFileHoldsIsRefusedWithItsName) {
+  for (const char* rows : {"2147483647", "1518500250", "1000000", "20000", "4"}) {
+    const std::string path = nscd_test::writeTemp(oneContactFile(rows, "block F 0 3 0.5"), ".txt");
+    expectRefusedWithItsName(path, std::string("rows ") + rows);
+    std::remove(path.c_str());
+  }
+}
+
+// A block's row + size was summed in int: a row near INT_MAX overflowed (undefined;
+// it wrapped negative, and the block past the rows was read as if inside them).
+TEST(ProblemFile, BlockPastTheRowsIsRefusedWhateverItsRow) {
+  for (const char* block : {"block F 2147483647 3 0.5", "block F 2147483646 3 0.5", "block F 1 2147483647 0.5",
+                            "block F 1 3 0.5", "block F -1 3 0.5", "block F 0 0 0.5"}) {
+    const std::string path = nscd_test::writeTemp(oneContactFile("3", block), ".txt");
+    expectRefusedWithItsName(path, block);
+    std::remove(path.c_str());
+  }
+  // The same file with its block inside the rows reads.
+  const std::string path = nscd_test::writeTemp(oneContactFile("3", "block F 0 3 0.5"), ".txt");
+  const ProblemFile p = readProblemFile(path);
+  EXPECT_EQ(p.W, 2 * Eigen::Matrix3d::Identity());
+  EXPECT_EQ(p.b, Eigen::Vector3d(-1, 0, 0));
+  EXPECT_EQ(p.P, Eigen::Vector3d(0.5, 0, 0));
+  ASSERT_EQ(p.blocks.size(), 1u);
+  EXPECT_EQ(p.blocks[0].row, 0);
+  EXPECT_EQ(p.blocks[0].size, 3);
   std::remove(path.c_str());
 }
 

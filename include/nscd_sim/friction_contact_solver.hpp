@@ -76,7 +76,8 @@ enum class SolverStage : std::uint8_t {
   LongNewton,      // a Newton of up to 500 iterations from P = 0
   ConeFixedPoint,  // the cone fixed point (interior-point solves), a Newton from its answer
   Unsolved,        // no stage met the tolerance: the best iterate is the answer
-  Failed,          // invalid or non-finite input, or a non-finite iterate
+  Failed,          // invalid (a block past W's rows, rows not covered once each) or
+                   // non-finite input, or a non-finite iterate
 };
 constexpr int kSolverStageCount = 16;
 // "no_rows", "local_solver", "equalities", "warm_start", "sweeps", ... (snake case of the above).
@@ -119,8 +120,9 @@ double solverError(const Eigen::Ref<const Eigen::MatrixXd>& W,
 class FrictionContactSolver {
  public:
   // W: m x m symmetric positive semidefinite Delassus operator (only the top-left
-  // m x m part of the matrices passed is read). P: in = warm start, out = solution
-  // (if not converged: the best iterate the stages found).
+  // m x m part of the matrices passed is read; m: the last row of a block). The
+  // blocks cover rows 0..m-1 once each, in any order (else Failed). P: in = warm
+  // start, out = solution (if not converged: the best iterate the stages found).
   SolverReport solve(const Eigen::Ref<const Eigen::MatrixXd>& W,
                      const Eigen::Ref<const Eigen::VectorXd>& b,
                      const std::vector<ProblemBlock>& blocks, const SolverOptions& options,

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "solve_run.hpp"
 #include "solver_schedule.hpp"
@@ -23,10 +24,13 @@ using BVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxBilateral, 1>;
 
 constexpr double kRelZeroDiag = 1e-13;  // as problem_setup.cpp: a zero row
 
+// Summed in 64 bits: a caller's block with a row near INT_MAX overflowed an int
+// (undefined; it wrapped to a negative m, and the solve answered NoRows, converged).
+// Such a block is refused by validBlocks; m is capped so that it is one.
 int problemRows(const std::vector<ProblemBlock>& blocks) {
-  int m = 0;
-  for (const ProblemBlock& bl : blocks) m = std::max(m, bl.row + bl.size);
-  return m;
+  Eigen::Index m = 0;
+  for (const ProblemBlock& bl : blocks) m = std::max(m, Eigen::Index(bl.row) + bl.size);
+  return int(std::min<Eigen::Index>(m, std::numeric_limits<int>::max()));
 }
 
 // A pull (P_N < 0) is no answer of the contact law, however small it is
@@ -68,10 +72,35 @@ bool allBilateral(const std::vector<ProblemBlock>& blocks) {
 bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
   for (const ProblemBlock& bl : blocks) {
     const int want = bl.kind == BlockKind::Frictional ? 3 : bl.kind == BlockKind::Frictionless ? 1 : -1;
-    if (bl.row < 0 || bl.size < 1 || bl.row + bl.size > rows) return false;
+    if (bl.row < 0 || bl.size < 1 || Eigen::Index(bl.row) + bl.size > rows) return false;
     if (want > 0 ? bl.size != want : bl.size > kMaxBilateral) return false;
   }
   return true;
+}
+
+// Every row 0..m-1 in exactly one block, as the engine builds its problems (each
+// block where the one before ends: checked without the marks). The Newton's
+// Jacobian and right-hand side, its row scaling and the interior point's
+// directions are written block by block: a row in no block or in two kept what
+// an earlier solve (or the allocator) had left there, and the answer depended
+// on the solver's history. covered: m entries of scratch.
+bool blocksTileRows(const std::vector<ProblemBlock>& blocks, int m, std::vector<char>& covered) {
+  int next = 0;
+  bool consecutive = true;
+  for (const ProblemBlock& bl : blocks) {
+    consecutive = consecutive && bl.row == next;
+    next += bl.size;  // each at most m (validBlocks): no overflow before the test below
+    if (next > m) return false;
+  }
+  if (next != m) return false;
+  if (consecutive) return true;
+  std::fill_n(covered.begin(), m, char(0));
+  for (const ProblemBlock& bl : blocks)
+    for (int i = bl.row; i < bl.row + bl.size; ++i) {
+      if (covered[i]) return false;
+      covered[i] = 1;
+    }
+  return true;  // m rows covered by m block rows, none twice: each once
 }
 
 // One frictional contact (a pin in its hole, a body on a plane): the local
@@ -259,6 +288,8 @@ SolverReport FrictionContactSolver::solve(const Eigen::Ref<const Eigen::MatrixXd
   if (solveSingleContact(W, b, blocks, options, P, rep)) return rep;
   double maxDiag = 0;
   if (!finiteProblem(W, b, m, maxDiag)) return rep;
+  growBuffers(buffers_, m, false);  // the schedules grow the Newton's buffers as they need them
+  if (!blocksTileRows(blocks, m, buffers_.zeroRow)) return rep;
   const bool equalityOnly =
       allBilateral(blocks) && !(options.skip_stages >> static_cast<int>(SolverStage::Equalities) & 1);
   if (!equalityOnly) return solveGeneralProblem(W, b, blocks, options, P, maxDiag, buffers_);

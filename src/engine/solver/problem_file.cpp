@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace nscd {
 namespace {
@@ -78,15 +79,24 @@ ProblemFile readProblemFile(const std::string& path) {
     if (!(in >> word >> kind >> bl.row >> bl.size >> bl.mu) || word != "block") bad(path, "bad block");
     bl.kind = kind == 'F' ? BlockKind::Frictional : kind == 'N' ? BlockKind::Frictionless
                                                                 : BlockKind::Bilateral;
-    if (bl.row < 0 || bl.size < 1 || bl.row + bl.size > m) bad(path, "block outside the rows");
+    // size > m - row, not row + size > m: a row near INT_MAX overflowed the sum.
+    if (bl.row < 0 || bl.size < 1 || bl.size > m - bl.row) bad(path, "block outside the rows");
     p.blocks.push_back(bl);
   }
-  p.W.resize(m, m);
-  Eigen::VectorXd row;
+  // W's m x m numbers are read before W is made: its size then follows from the
+  // numbers the file holds, never from the rows count alone (rows 2147483647 asked
+  // Eigen for 2^62 entries, whose std::bad_alloc escaped the refusal).
+  std::vector<double> entries;
   for (int i = 0; i < m; ++i) {
-    readVector(in, path, "W", row, m);
-    p.W.row(i) = row.transpose();
+    std::string word;
+    if (!(in >> word) || word != "W") bad(path, "expected W");
+    for (int j = 0; j < m; ++j) {
+      double x;
+      if (!(in >> x)) bad(path, "short W");
+      entries.push_back(x);
+    }
   }
+  p.W = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(entries.data(), m, m);
   readVector(in, path, "b", p.b, m);
   readVector(in, path, "P_start", p.P_start, m);
   readVector(in, path, "P", p.P, m);
