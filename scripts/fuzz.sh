@@ -6,7 +6,7 @@
 #   scripts/fuzz.sh TARGET SECONDS [OPT...]   one target for SECONDS (OPT: libFuzzer options)
 #   scripts/fuzz.sh --all SECONDS            every target for SECONDS each (CI)
 #   scripts/fuzz.sh --build                  only build
-# NSCD_FUZZ_OPT: the build's optimisation (default -O2; CI: -O1, a shorter build).
+# NSCD_FUZZ_OPT: the build's optimisation (default -O2, which CI uses; -O1 builds sooner).
 # Prints the executions per second, the coverage (edges) and features reached;
 # exits non-zero if a target crashed, hung, leaked or a sanitizer or an oracle
 # fired (the input is kept in $NSCD_FUZZ_DIR/artifacts/TARGET/). The corpus grows
