@@ -202,14 +202,24 @@ double kineticEnergyOf(const Model& m, const State& s);
 double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
 // Kinetic plus potential energy of the state.
 double totalEnergyOf(const Model& m, const State& s);
+// The energy at a step's start plus the inputs' work in the step, evaluated only
+// when the take-back asks for it: the start state's (totalEnergyOf), or, the
+// state gone on, the kinetic energy of its velocities as stateVelocities wrote
+// them (a fixed step's ws.vk) plus its potential energy and the inputs' work.
+struct StepStartEnergy {
+  const State* state = nullptr;
+  const Eigen::VectorXd* velocities = nullptr;
+  double potential = 0, input_work = 0;
+  double value(const Model& m) const;
+};
 // Potential energy the projection added beyond potential_before (the potential
 // before it plus the inputs' work in the step), as far as the step as a whole
-// gained energy beyond energy_before (the energy at the step's start plus the
-// inputs' work), taken back from the kinetic energy of the bodies whose motion is
-// not prescribed: first from the velocity against the projection's correction
-// (from ws.unprojected_bodies), the rest by one common factor. Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, double energy_before,
-                                State& s);
+// gained energy beyond the start's (StepStartEnergy), taken back from the kinetic
+// energy of the bodies whose motion is not prescribed: first from the velocity
+// against the projection's correction (from ws.unprojected_bodies), the rest by
+// one common factor. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, StepWorkspace& ws, double potential_before,
+                                const StepStartEnergy& start, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement), position servos (effort x joint motion) and
 // springs applied as body-fixed loads (their power at the step's end x h).

@@ -116,6 +116,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
   ws.unprojected_bodies.resize(m.bodies.size());
+  ws.projection_turn.resize(m.bodies.size());
   ws.rows_key.resize(m.bodies.size());
   ws.rows_keyed = false;
   ws.saved_dq.setZero(ws.n);

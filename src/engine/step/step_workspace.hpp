@@ -145,6 +145,7 @@ class StepWorkspace {
   Eigen::VectorXd dq;            // projection: the displacement of a pass
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   std::vector<BodyState> unprojected_bodies;  // projection: state before its first pass (energy take-back)
+  std::vector<Vec3> projection_turn;          // energy take-back: each body's turn in the projection
   Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
   // Projection: its last pass took the velocity stage's factor (velocityFactorReusable).
   bool projection_reused_factor = false;
