@@ -56,7 +56,15 @@ struct ConstraintBlock {
   double error[6] = {0, 0, 0, 0, 0, 0};
   int joint = -1;           // ideal joint index, or -1
   int actuator = -1;        // prescribed actuator index, or -1
+  // What the rows' writer knows of each row's linear part (the first three of its
+  // six columns on each of its bodies): linear_known, and per row its axis k (0-2:
+  // zero but for entry k, a finite one; one row per axis at most) or kLinearZero
+  // (all three zero). The
+  // Delassus operator skips those exact zeros' products (delassus_operator.cpp).
+  bool linear_known = false;
+  signed char linear_axis[6] = {0, 0, 0, 0, 0, 0};
 };
+constexpr signed char kLinearZero = 3;
 
 // Which contact candidates a geometry pass gathers.
 enum class CandidateMode {
