@@ -24,6 +24,12 @@ void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
   // less the same +-0 terms; where it is zero its sign may differ, but it is then
   // added to a b_i that is nonzero or +0 (c * 1 + 0 - 0), which it leaves as it is
   // both ways. (v_k is finite where v_free is.)
+  // A row whose linear parts are known (ConstraintBlock::linear_known) skips their
+  // exact zeros too: finite (0 * a finite v), +-0 like the terms above.
+  const double* G = ws.G.data();
+  const Eigen::Index ldg = ws.G.outerStride();
+  const double* vfree = ws.vfree.data();
+  const double* vk = ws.vk.data();
   for (const ConstraintBlock& blk : ws.blocks) {
     int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
     if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
@@ -32,23 +38,38 @@ void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
     const bool average = bilateral && blk.joint >= 0 && joint_average > 0;
     for (int k = 0; k < blk.size; ++k) {
       const int i = blk.row + k;
-      double c = 0, ck = 0;
-      bool first = true;
+      // The row's columns that may be nonzero, in column order.
+      int cols[12];
+      int nc = 0;
       for (int body : bodies) {
         if (body == kGround) continue;
-        for (int j = 6 * body; j < 6 * body + 6; ++j) {
-          const double g = ws.G(i, j);
-          c += g * ws.vfree[j];
-          if (average) {
-            ck = first ? g * ws.vk[j] : ck + g * ws.vk[j];
-            first = false;
-          }
+        const int j0 = 6 * body;
+        if (!blk.linear_known) {
+          for (int j = j0; j < j0 + 3; ++j) cols[nc++] = j;
+        } else if (blk.linear_axis[k] != kLinearZero) {
+          cols[nc++] = j0 + blk.linear_axis[k];
         }
+        for (int j = j0 + 3; j < j0 + 6; ++j) cols[nc++] = j;
+      }
+      const double* gi = G + i;
+      double c = 0;
+      if (!average || nc == 0) {
+        for (int t = 0; t < nc; ++t) c += gi[cols[t] * ldg] * vfree[cols[t]];
+        ws.b[i] = c * 1.0 + 0.0;
+        if (bilateral) ws.b[i] -= blk.target[k];
+        continue;
+      }
+      double g = gi[cols[0] * ldg];
+      c += g * vfree[cols[0]];
+      double ck = g * vk[cols[0]];
+      for (int t = 1; t < nc; ++t) {
+        g = gi[cols[t] * ldg];
+        c += g * vfree[cols[t]];
+        ck += g * vk[cols[t]];
       }
       ws.b[i] = c * 1.0 + 0.0;
-      if (!bilateral) continue;
       ws.b[i] -= blk.target[k];
-      if (average) ws.b[i] += joint_average * ck;
+      ws.b[i] += joint_average * ck;
     }
   }
 }
