@@ -105,6 +105,7 @@ double jointVelocity(const Model& m, const State& s, int joint) {
 
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws, bool jacobian) {
+  if (jacobian) clearStaleJointRows(m, ws, ws.rows);
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const Joint& j = m.joints[ji];
     if (j.clearance >= 0) continue;  // replaced by unilateral contacts

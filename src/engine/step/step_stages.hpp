@@ -16,8 +16,15 @@ void initStepOutputs(const Model& m, StepOutputs& out);
 // Clears the outputs of the last step (sizes kept).
 void clearStepOutputs(StepOutputs& out);
 // Drops the constraint blocks and zeroes their rows of G (the row writers rely
-// on G being zero outside the registered blocks).
+// on G being zero outside the registered blocks), but for the joints whose next
+// full gather writes their rows whole at the same places
+// (ModelFacts::rows_written_whole): those are left to that gather
+// (clearStaleJointRows), and G is read only after one.
 void clearConstraintRows(StepWorkspace& ws);
+// At a full gather's start (appendBilateralRows, first_row: its first row): the
+// rows clearConstraintRows left that the gather does not write again at the same
+// places are zeroed; the others it overwrites.
+void clearStaleJointRows(const Model& m, StepWorkspace& ws, int first_row);
 // The rows now in ws kept as a memo of the state's poses, when the model's rows
 // follow the poses (ModelFacts::rows_follow_poses); else nothing.
 void keyRowsOnPoses(const State& s, StepWorkspace& ws);
@@ -66,8 +73,9 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // and prescribed actuators, with their position errors and rheonomic targets.
 // rates[i]: commanded rate of actuator i (prescribed).
 // jacobian false: the rows' errors only where a joint kind can skip its G rows
-// (revolute joints: their G rows stay as clearConstraintRows left them, zero),
-// for a check of the violation whose rows are not used.
+// (revolute joints: their G rows stay as clearConstraintRows left them, zero or
+// the last full gather's), for a check of the violation whose rows are not used
+// (G is not read before the next full gather).
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws, bool jacobian = true);
 // Continuous joint coordinate at the state (State::joint_position as the reference).

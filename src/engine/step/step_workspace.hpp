@@ -94,6 +94,9 @@ struct ModelFacts {
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
   std::vector<char> prescribed_body;
+  // Per joint: every full gather writes its rows whole on its bodies (a revolute
+  // joint between two bodies), at facts.joint_row_base from the gather's first row.
+  std::vector<char> rows_written_whole;
   // Ideal joints alone (no contact pairs, clearance joints or prescribed
   // motions): the rows of a gather depend on the bodies' poses alone.
   bool rows_follow_poses = false;
@@ -172,6 +175,10 @@ class StepWorkspace {
 
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
+  // Per joint (rows_written_whole): the first row of its rows that a clear left in
+  // G (the next full gather writes them again, clearStaleJointRows), or -1.
+  std::vector<int> stale_joint_row;
+  int stale_joints = 0;
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
