@@ -78,6 +78,9 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // (G is not read before the next full gather).
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws, bool jacobian = true);
+// The G rows a gather of the errors alone (jacobian false) left out, for the same
+// state, from the placements it kept: then ws holds what a full gather gives.
+void completeBilateralRows(const Model& m, const State& s, StepWorkspace& ws);
 // Continuous joint coordinate at the state (State::joint_position as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);

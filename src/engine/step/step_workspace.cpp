@@ -142,6 +142,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.equality.factor_rows = 0;
   ws.blocks.reserve(mr);
   ws.stale_joint_row.assign(m.joints.size(), -1);
+  ws.placements.resize(m.joints.size());
   ws.stale_joints = 0;
   // Projection passes add up to kRingFacets facets per penetrating ring.
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());

@@ -66,6 +66,13 @@ struct ConstraintBlock {
 };
 constexpr signed char kLinearZero = 3;
 
+// A joint's placement (joint_rows.hpp's JointPlacement, its bodies' states aside),
+// kept by a gather of the rows' errors alone for completeBilateralRows.
+struct PlacementMemo {
+  Vec3 pa, pb, axis_a, dp;
+  Vec3 frame[3];
+};
+
 // Which contact candidates a geometry pass gathers.
 enum class CandidateMode {
   Step,        // the velocity step: frictional rows, activation, predicted rows
@@ -179,6 +186,7 @@ class StepWorkspace {
   // G (the next full gather writes them again, clearStaleJointRows), or -1.
   std::vector<int> stale_joint_row;
   int stale_joints = 0;
+  std::vector<PlacementMemo> placements;  // per joint: at the last gather of the errors alone
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
