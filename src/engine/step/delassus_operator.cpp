@@ -154,11 +154,12 @@ void assembleKnownLowerBlockRows(const StepWorkspace& ws, int bi, const double* 
           w[a] = lin[q][a] * y[k] + w[a];
         }
         double* wc = W + j * ldw + blk.row;  // column j at block bi's first row
-        const int from = same ? c : 0;
-        if (first) {
-          for (int a = from; a < S; ++a) wc[a] = w[a] + 0.0;
+        if (same) {  // its lower triangle
+          for (int a = c; a < S; ++a) wc[a] = first ? w[a] + 0.0 : wc[a] + w[a];
+        } else if (first) {
+          for (int a = 0; a < S; ++a) wc[a] = w[a] + 0.0;
         } else {
-          for (int a = from; a < S; ++a) wc[a] += w[a];
+          for (int a = 0; a < S; ++a) wc[a] += w[a];
         }
       }
       first = false;
@@ -203,18 +204,35 @@ void assembleEqualityDelassus(StepWorkspace& ws, int r) {
     }
   }
   const Eigen::Index ldg = ws.G.outerStride();
-  // Y's columns: the rows' bodies' pieces written whole (applyBodyInverse), the
-  // other bodies' zeroed.
+  // Y's columns, a block at a time: its bodies' pieces written whole
+  // (applyBodyInverse; a known row's linear entries off its axis are +0: 1/m
+  // times G's +0, plus +0), the other bodies' zeroed.
   const int nb = ws.nbodies;
-  for (int i = 0; i < r; ++i) {
-    double* y = ws.Y.col(i).data();
-    const std::array<int, 2>& bodies = ws.row_bodies[i];
-    for (int c = 0; c < nb; ++c)
-      if (c != bodies[0] && c != bodies[1])
-        for (int k = 0; k < 6; ++k) y[6 * c + k] = 0;
-    for (int body : bodies)
-      if (body != kGround)
-        applyBodyInverse(ws.body_mass_inverse[body], ws.G.data() + i + 6 * body * ldg, ldg, y + 6 * body);
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.row >= r) continue;
+    const std::array<int, 2>& bodies = ws.row_bodies[blk.row];
+    for (int c = 0; c < nb; ++c) {
+      if (c == bodies[0] || c == bodies[1]) continue;
+      for (int i = blk.row; i < blk.row + blk.size; ++i)
+        for (int k = 0; k < 6; ++k) ws.Y(6 * c + k, i) = 0;
+    }
+    for (int body : bodies) {
+      if (body == kGround) continue;
+      const StepWorkspace::BodyMassInverse& bm = ws.body_mass_inverse[body];
+      for (int i = blk.row; i < blk.row + blk.size; ++i) {
+        const double* g = ws.G.data() + i + 6 * body * ldg;
+        double* y = ws.Y.col(i).data() + 6 * body;
+        const int axis = blk.linear_axis[i - blk.row];
+        if (!blk.linear_known) {
+          applyBodyInverse(bm, g, ldg, y);
+          continue;
+        }
+        const double g3 = g[3 * ldg], g4 = g[4 * ldg], g5 = g[5 * ldg];
+        for (int k = 0; k < 3; ++k) y[k] = 0.0;
+        if (axis != kLinearZero) y[axis] = bm.lin[axis] * g[axis * ldg] + 0.0;
+        for (int k = 0; k < 3; ++k) y[3 + k] = ((bm.ang[k][0] * g3 + bm.ang[k][1] * g4) + bm.ang[k][2] * g5) + 0.0;
+      }
+    }
   }
   double* W = ws.W.data();
   const Eigen::Index ldw = ws.W.outerStride();
