@@ -100,6 +100,35 @@ void addBlockPair(const double (&gi)[6][2][6], const int (&qi)[2], int npi, cons
   }
 }
 
+// A known block's rows (ang: their angular entries of G on one body, lin: their
+// linear entry at their axis, row_of_axis: the row along each axis, or -1)
+// against column j of Y on that body (y: its piece): the S sums of W_ij, the
+// angular dot product plus, for a row along the column row's axis k, its one
+// linear product (assembleKnownLowerBlockRows).
+template <int S>
+inline void knownPieceSums(const double (&ang)[3][S], const double (&lin)[S], const int (&row_of_axis)[3], int k,
+                           const double* y, double (&w)[S]) {
+  const double y3 = y[3], y4 = y[4], y5 = y[5];
+  for (int a = 0; a < S; ++a) w[a] = ang[0][a] * y3 + (ang[1][a] * y4 + ang[2][a] * y5);
+  if (k != kLinearZero && row_of_axis[k] >= 0) {
+    const int a = row_of_axis[k];
+    w[a] = lin[a] * y[k] + w[a];
+  }
+}
+
+// Those sums against every row of another block on the body, written into W's
+// columns (wc: W at block bi's first row of column other.row): as +0 plus them
+// (kFirst: w + 0.0, the same value) or added.
+template <int S, bool kFirst>
+void addKnownPieces(const double (&ang)[3][S], const double (&lin)[S], const int (&row_of_axis)[3],
+                    const ConstraintBlock& other, const double* y, Eigen::Index ldy, double* wc, Eigen::Index ldw) {
+  for (int c = 0; c < other.size; ++c, y += ldy, wc += ldw) {
+    double w[S];
+    knownPieceSums<S>(ang, lin, row_of_axis, other.linear_axis[c], y, w);
+    for (int a = 0; a < S; ++a) wc[a] = kFirst ? w[a] + 0.0 : wc[a] + w[a];
+  }
+}
+
 // assembleLowerBlockRows where every block's rows have known linear parts
 // (ConstraintBlock::linear_known): dot6 less the products of the exact zeros. A
 // row of Y has the linear pattern of its row of G (Y's linear part is the body's
@@ -110,6 +139,8 @@ void addBlockPair(const double (&gi)[6][2][6], const int (&qi)[2], int npi, cons
 // Nothing skipped can be a NaN: the known linear entries are finite, and so are
 // Y's (1/m times them). Block bi's pieces of G are copied out as columns over its
 // rows (the angular sums of its S rows against one column of Y side by side).
+// W's entries are not zeroed before: the first body's sums are written as +0 plus
+// them, a block pair's entries without a shared body as +0.
 template <int S>
 void assembleKnownLowerBlockRows(const StepWorkspace& ws, int bi, const double* Y, Eigen::Index ldy, double* W,
                                  Eigen::Index ldw) {
@@ -132,42 +163,37 @@ void assembleKnownLowerBlockRows(const StepWorkspace& ws, int bi, const double* 
     }
     qi[np++] = body;
   }
-  for (int bj = 0; bj <= bi; ++bj) {
+  for (int bj = 0; bj < bi; ++bj) {
     const ConstraintBlock& other = ws.blocks[bj];
     const int ja = other.body_a, jb = other.body_b == other.body_a ? kGround : other.body_b;
-    const bool same = bj == bi;
-    // W's entries are not zeroed before: the first body's sums are written as +0
-    // plus them (w + 0.0, the same value), the blocks' entries without a shared body as +0.
+    double* wc = W + other.row * ldw + blk.row;
     bool first = true;
     for (int q = 0; q < np; ++q) {
       const int body = qi[q];
       if (body != ja && body != jb) continue;
-      for (int c = 0; c < other.size; ++c) {
-        const int j = other.row + c;
-        const double* y = Y + j * ldy + 6 * body;
-        const double y3 = y[3], y4 = y[4], y5 = y[5];
-        double w[S];
-        for (int a = 0; a < S; ++a) w[a] = ang[q][0][a] * y3 + (ang[q][1][a] * y4 + ang[q][2][a] * y5);
-        const int k = other.linear_axis[c];
-        if (k != kLinearZero && row_of_axis[k] >= 0) {
-          const int a = row_of_axis[k];
-          w[a] = lin[q][a] * y[k] + w[a];
-        }
-        double* wc = W + j * ldw + blk.row;  // column j at block bi's first row
-        if (same) {  // its lower triangle
-          for (int a = c; a < S; ++a) wc[a] = first ? w[a] + 0.0 : wc[a] + w[a];
-        } else if (first) {
-          for (int a = 0; a < S; ++a) wc[a] = w[a] + 0.0;
-        } else {
-          for (int a = 0; a < S; ++a) wc[a] += w[a];
-        }
-      }
+      const double* y = Y + other.row * ldy + 6 * body;
+      if (first)
+        addKnownPieces<S, true>(ang[q], lin[q], row_of_axis, other, y, ldy, wc, ldw);
+      else
+        addKnownPieces<S, false>(ang[q], lin[q], row_of_axis, other, y, ldy, wc, ldw);
       first = false;
     }
-    if (first)  // no body shared (the same block shares its own)
+    if (first)  // no body shared
       for (int c = 0; c < other.size; ++c)
-        for (int a = 0; a < S; ++a) W[(other.row + c) * ldw + blk.row + a] = 0;
+        for (int a = 0; a < S; ++a) wc[c * ldw + a] = 0;
   }
+  // The block against itself: its lower triangle.
+  for (int q = 0; q < np; ++q) {
+    for (int c = 0; c < S; ++c) {
+      double w[S];
+      knownPieceSums<S>(ang[q], lin[q], row_of_axis, blk.linear_axis[c], Y + (blk.row + c) * ldy + 6 * qi[q], w);
+      double* wc = W + (blk.row + c) * ldw + blk.row;
+      for (int a = c; a < S; ++a) wc[a] = q == 0 ? w[a] + 0.0 : wc[a] + w[a];
+    }
+  }
+  if (np == 0)
+    for (int c = 0; c < S; ++c)
+      for (int a = c; a < S; ++a) W[(blk.row + c) * ldw + blk.row + a] = 0;
 }
 
 template <int S>
