@@ -117,18 +117,21 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
     int nnz = 0;
     for (int i = k + 1; i < n; ++i)
       if (ck[i] != 0) nonzero[nnz++] = i;
+    // Column k scaled (L = v / d) as it goes: entry j once the updates that read it
+    // unscaled (those of columns j' <= j) are done; s is its scaled value.
     const double inv = 1 / ck[k];
     for (int t = 0; t < nnz; ++t) {
       const int j = nonzero[t];
       const double s = ck[j] * inv;
-      if (s == 0) continue;
-      double* __restrict cj = &a(0, j);
-      for (int u = t; u < nnz; ++u) {
-        const int i = nonzero[u];
-        cj[i] -= ck[i] * s;
+      if (s != 0) {
+        double* __restrict cj = &a(0, j);
+        for (int u = t; u < nnz; ++u) {
+          const int i = nonzero[u];
+          cj[i] -= ck[i] * s;
+        }
       }
+      ck[j] = s;
     }
-    for (int t = 0; t < nnz; ++t) ck[nonzero[t]] *= inv;
   }
   return n;
 }
