@@ -11,6 +11,32 @@
 
 namespace nscd {
 
+namespace {
+
+// One term of G_i v_free and of G_i v_k (ck: from its first term on).
+template <bool kFirst>
+inline void addRowTerm(double g, double vfree, double vk, double& c, double& ck) {
+  c += g * vfree;
+  ck = kFirst ? g * vk : ck + g * vk;
+}
+
+// A known row's terms on one body (g: its piece of G, stride ld; v: the body's
+// velocities): its axis's linear entry (axis < kLinearZero), then the angular ones.
+template <bool kFirst>
+inline void addKnownRowTerms(const double* g, Eigen::Index ld, const double* vfree, const double* vk, int axis,
+                             double& c, double& ck) {
+  if (axis != kLinearZero) {
+    addRowTerm<kFirst>(g[axis * ld], vfree[axis], vk[axis], c, ck);
+    addRowTerm<false>(g[3 * ld], vfree[3], vk[3], c, ck);
+  } else {
+    addRowTerm<kFirst>(g[3 * ld], vfree[3], vk[3], c, ck);
+  }
+  addRowTerm<false>(g[4 * ld], vfree[4], vk[4], c, ck);
+  addRowTerm<false>(g[5 * ld], vfree[5], vk[5], c, ck);
+}
+
+}  // namespace
+
 // b = G v_free of every row, and a bilateral row's target and an ideal joint's
 // workless average, for a finite v_free (the direct equality step shares it).
 void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
@@ -36,6 +62,23 @@ void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
       std::swap(bodies[0], bodies[1]);
     const bool bilateral = blk.kind == BlockKind::Bilateral;
     const bool average = bilateral && blk.joint >= 0 && joint_average > 0;
+    if (blk.linear_known && average && bodies[0] != kGround) {  // a revolute joint's rows, as below
+      for (int k = 0; k < blk.size; ++k) {
+        const int i = blk.row + k;
+        const int axis = blk.linear_axis[k];
+        double c = 0, ck = 0;
+        int j0 = 6 * bodies[0];
+        addKnownRowTerms<true>(G + i + j0 * ldg, ldg, vfree + j0, vk + j0, axis, c, ck);
+        if (bodies[1] != kGround) {
+          j0 = 6 * bodies[1];
+          addKnownRowTerms<false>(G + i + j0 * ldg, ldg, vfree + j0, vk + j0, axis, c, ck);
+        }
+        ws.b[i] = c * 1.0 + 0.0;
+        ws.b[i] -= blk.target[k];
+        ws.b[i] += joint_average * ck;
+      }
+      continue;
+    }
     for (int k = 0; k < blk.size; ++k) {
       const int i = blk.row + k;
       // The row's columns that may be nonzero, in column order.
