@@ -57,6 +57,34 @@ bool lowerTriangleFinite(const double* W, Eigen::Index ldw, int r) {
   return acc[0] + acc[1] + single == 0;
 }
 
+// factorScaledRows's copy L = S W S where no row is zero (rows 0 .. r-1), W's
+// finiteness checked on the way (as lowerTriangleFinite): the copy two entries at
+// a time, each entry's product the same. False (L not factored) if W is not finite.
+bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+  typedef double Pair __attribute__((vector_size(16)));
+  Pair acc = {0.0, 0.0};
+  double single = 0;
+  for (int c = 0; c < r; ++c) {
+    const double* wc = W + c * ldw;
+    double* lc = L + c * ldl;
+    const double sc = s[c];
+    int i = c;
+    for (; i + 2 <= r; i += 2) {
+      Pair w, si;
+      std::memcpy(&w, wc + i, sizeof w);
+      std::memcpy(&si, s + i, sizeof si);
+      const Pair l = w * (si * sc);
+      std::memcpy(lc + i, &l, sizeof l);
+      acc += w * 0.0;
+    }
+    if (i < r) {
+      lc[i] = wc[i] * (s[i] * sc);
+      single += wc[i] * 0.0;
+    }
+  }
+  return acc[0] + acc[1] + single == 0;
+}
+
 // The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
 bool factorRows(StepWorkspace& ws, int r) {
   EqualityFactor& f = ws.equality;
@@ -67,7 +95,6 @@ bool factorRows(StepWorkspace& ws, int r) {
     if (!std::isfinite(W[i * ldw + i])) return false;
     maxDiag = std::max(maxDiag, W[i * ldw + i]);
   }
-  if (!lowerTriangleFinite(W, ldw, r)) return false;  // (the one assembled)
   const double zeroDiag = kRelZeroDiag * maxDiag;
   int ne = 0;
   for (int i = 0; i < r; ++i)
@@ -75,6 +102,12 @@ bool factorRows(StepWorkspace& ws, int r) {
   f.ne = ne;
   double* s = f.scale.data();
   for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W[f.rows[a] * ldw + f.rows[a]]);
+  if (ne == r) {  // the copy covers W's lower triangle (the one assembled) and checks it
+    if (!scaledCopyIfFinite(W, ldw, r, s, f.L.data(), f.L.outerStride())) return false;
+    pivotedLdlt(f.L.data(), int(f.L.outerStride()), ne, kScaledDrop, f.perm.data(), f.perm.data() + ne);
+    return true;
+  }
+  if (!lowerTriangleFinite(W, ldw, r)) return false;
   factorScaledRows(W, int(ldw), r, f.rows.data(), ne, s, f.L.data(), int(f.L.outerStride()), kScaledDrop,
                    f.perm.data());
   return true;
