@@ -392,6 +392,54 @@ TEST(EqualityPath, ProjectionFirstPassTakesTheVelocityFactor) {
   EXPECT_FALSE(rowsMatchPoses(t.s, t.ws));
 }
 
+// The rows a step keeps are a full gather's, however they were gathered: a
+// gather of the errors alone completed (completeBilateralRows, the projection's
+// check that needs no pass), or a gather after a clear that left a revolute
+// joint's rows in G (clearStaleJointRows), G and the blocks against a fresh
+// workspace's full gather bit for bit (memcmp), on revolute, prismatic and
+// same-body joints.
+TEST(EqualityPath, CompletedAndStaleGathersAreAFullGathers) {
+  for (const char* scene : {"urdf/pendulum.urdf", "test/scenes/double_pendulum.urdf", "urdf/fourbar.urdf",
+                            "urdf/slider_crank.urdf", "urdf/c60_ideal.urdf"}) {
+    StepHarness t(scene);
+    for (int step = 0; step < 3; ++step) {
+      t.velocityStage(1e-3);  // rows in G at the step's start
+      advanceState(t.m, 1e-3, t.ws, t.s);
+      trackJointPositions(t.m, t.s);
+      StepWorkspace fresh;
+      initStepWorkspace(t.m, fresh);
+      appendBilateralRows(t.m, t.s, fresh.zero_rates, fresh);
+      const auto same = [&](const StepWorkspace& ws, const char* how) {
+        ASSERT_EQ(fresh.rows, ws.rows) << scene << how;
+        ASSERT_EQ(fresh.blocks.size(), ws.blocks.size()) << scene << how;
+        for (int j = 0; j < fresh.n; ++j)
+          for (int i = 0; i < fresh.G.rows(); ++i)
+            ASSERT_EQ(std::memcmp(&fresh.G(i, j), &ws.G(i, j), sizeof(double)), 0) << scene << how << " G " << i << " " << j;
+        for (size_t k = 0; k < fresh.blocks.size(); ++k) {
+          const ConstraintBlock &a = fresh.blocks[k], &b = ws.blocks[k];
+          ASSERT_EQ(a.row, b.row);
+          ASSERT_EQ(a.size, b.size);
+          ASSERT_EQ(a.linear_known, b.linear_known) << scene << how;
+          for (int r = 0; r < a.size; ++r) {
+            ASSERT_EQ(std::memcmp(&a.error[r], &b.error[r], sizeof(double)), 0) << scene << how;
+            if (a.linear_known) ASSERT_EQ(a.linear_axis[r], b.linear_axis[r]) << scene << how;
+          }
+        }
+      };
+      // The errors alone, then completed (the rows of the velocity stage, at the
+      // step's start, still in G where a clear left them).
+      clearConstraintRows(t.ws);
+      appendBilateralRows(t.m, t.s, t.ws.zero_rates, t.ws, false);
+      completeBilateralRows(t.m, t.s, t.ws);
+      same(t.ws, " completed");
+      // A full gather after a clear (the rows just gathered left in G).
+      clearConstraintRows(t.ws);
+      appendBilateralRows(t.m, t.s, t.ws.zero_rates, t.ws);
+      same(t.ws, " after a clear");
+    }
+  }
+}
+
 // A scene with stiff elements (Ŵ is not M^-1) or a contact never reuses.
 TEST(EqualityPath, NoReuseWithStiffElementsOrContacts) {
   StepHarness spring("urdf/spring_mass.urdf");

@@ -105,11 +105,12 @@ double jointVelocity(const Model& m, const State& s, int joint) {
 
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws, bool jacobian) {
+  if (jacobian) clearStaleJointRows(m, ws, ws.rows);
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const Joint& j = m.joints[ji];
     if (j.clearance >= 0) continue;  // replaced by unilateral contacts
     const JointPlacement p = placeJoint(j, s);
-    ConstraintBlock blk;
+    ConstraintBlock& blk = ws.blocks.emplace_back();  // built in place (a block is ~0.4 kB)
     blk.kind = BlockKind::Bilateral;
     blk.body_a = j.body_a;
     blk.body_b = j.body_b;
@@ -118,15 +119,18 @@ void appendBilateralRows(const Model& m, const State& s, const std::vector<doubl
     int r = ws.rows;
     switch (j.type) {
       case JointType::Revolute:
-        if (jacobian) appendRevoluteRows(j, s, p, blk, r, ws.G);
-        else appendRevoluteErrors(j, p, blk, r);
+        if (jacobian) {
+          appendRevoluteRows(j, s, p, blk, r, ws.G);
+        } else {
+          appendRevoluteErrors(j, p, blk, r);
+          ws.placements[ji] = PlacementMemo{p.pa, p.pb, p.axis_a, p.dp, {p.fa.e[0], p.fa.e[1], p.fa.e[2]}};
+        }
         break;
       case JointType::Prismatic: appendPrismaticRows(j, s, p, blk, r, ws.G); break;
       case JointType::Fixed: appendFixedRows(j, s, p, blk, r, ws.G); break;
     }
     blk.size = r - blk.row;
     ws.rows = r;
-    ws.blocks.push_back(blk);
   }
   for (size_t ai = 0; ai < m.actuators.size(); ++ai) {
     if (m.actuators[ai].type != ActuatorType::Prescribed) continue;
@@ -139,6 +143,21 @@ void appendBilateralRows(const Model& m, const State& s, const std::vector<doubl
     blk.size = r - blk.row;
     ws.rows = r;
     ws.blocks.push_back(blk);
+  }
+}
+
+void completeBilateralRows(const Model& m, const State& s, StepWorkspace& ws) {
+  if (ws.blocks.empty()) return;
+  clearStaleJointRows(m, ws, ws.blocks.front().row);  // a full gather's start (bilateral blocks come first)
+  for (ConstraintBlock& blk : ws.blocks) {
+    if (blk.joint < 0) continue;
+    const Joint& j = m.joints[blk.joint];
+    if (j.type != JointType::Revolute) continue;  // the other kinds wrote G already
+    const PlacementMemo& pm = ws.placements[blk.joint];
+    const JointPlacement p{bodyOrGround(s, j.body_a), bodyOrGround(s, j.body_b), pm.pa, pm.pb, pm.axis_a,
+                           Frame3{{pm.frame[0], pm.frame[1], pm.frame[2]}}, pm.dp};
+    int r = blk.row;
+    appendRevoluteRows(j, s, p, blk, r, ws.G);  // its errors again, the same
   }
 }
 

@@ -49,9 +49,12 @@ void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
   const Vec3 rb = p.pb - p.b.x, ra = p.pa - p.a.x;
   double* gb = j.body_b != kGround ? &G(r, 6 * j.body_b) : nullptr;
   double* ga = j.body_a != kGround ? &G(r, 6 * j.body_a) : nullptr;
+  // The linear parts: +-1 at the axis of a point row, 0 elsewhere (linear_axis).
+  blk.linear_known = true;
   for (int i = 0; i < 3; ++i) {  // the anchors coincide
     const Vec3 d = Vec3::Unit(i);
     writeRow(gb, ga, ld, d, qb_t * rb.cross(d), -d, qa_t * (-(ra.cross(d))));
+    blk.linear_axis[r - blk.row] = static_cast<signed char>(i);
     blk.error[r - blk.row] = p.dp.dot(d);
     ++r;
     if (gb) ++gb;
@@ -60,6 +63,7 @@ void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
   for (int i = 1; i < 3; ++i) {  // the child's axis on the parent's
     const Vec3 c = axis_b.cross(p.fa.e[i]);
     writeRow(gb, ga, ld, Vec3::Zero(), qb_t * c, Vec3::Zero(), qa_t * (-c));
+    blk.linear_axis[r - blk.row] = kLinearZero;
     blk.error[r - blk.row] = axis_b.dot(p.fa.e[i]);
     ++r;
     if (gb) ++gb;

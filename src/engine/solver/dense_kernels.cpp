@@ -117,24 +117,29 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
     int nnz = 0;
     for (int i = k + 1; i < n; ++i)
       if (ck[i] != 0) nonzero[nnz++] = i;
+    // Column k scaled (L = v / d) as it goes: entry j once the updates that read it
+    // unscaled (those of columns j' <= j) are done; s is its scaled value.
     const double inv = 1 / ck[k];
     for (int t = 0; t < nnz; ++t) {
       const int j = nonzero[t];
       const double s = ck[j] * inv;
-      if (s == 0) continue;
-      double* __restrict cj = &a(0, j);
-      for (int u = t; u < nnz; ++u) {
-        const int i = nonzero[u];
-        cj[i] -= ck[i] * s;
+      if (s != 0) {
+        double* __restrict cj = &a(0, j);
+        for (int u = t; u < nnz; ++u) {
+          const int i = nonzero[u];
+          cj[i] -= ck[i] * s;
+        }
       }
+      ck[j] = s;
     }
-    for (int t = 0; t < nnz; ++t) ck[nonzero[t]] *= inv;
   }
   return n;
 }
 
-void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp) {
-  for (int k = 0; k < n; ++k) tmp[k] = x[perm[k]];
+namespace {
+
+// ldltSolve on the right-hand side in the pivoting order, in place.
+void ldltSolveInOrder(const double* L, int ld, int n, double* tmp) {
   for (int k = 0; k < n; ++k) {  // L z = y (a dependent row's column is 0)
     const double zk = tmp[k];
     if (zk == 0) continue;
@@ -151,6 +156,13 @@ void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, doubl
     for (int i = k + 1; i < n; ++i) s -= ck[i] * tmp[i];
     tmp[k] = s;
   }
+}
+
+}  // namespace
+
+void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, double* tmp) {
+  for (int k = 0; k < n; ++k) tmp[k] = x[perm[k]];
+  ldltSolveInOrder(L, ld, n, tmp);
   for (int k = 0; k < n; ++k) x[perm[k]] = tmp[k];
 }
 
@@ -220,10 +232,19 @@ void factorScaledRows(const double* W, int ldw, int m, const int* rows, int ne, 
 
 void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
                      const double* rhs, double* x, double* P) {
-  for (int a = 0; a < ne; ++a) x[a] = -s[a] * rhs[rows[a]];
-  ldltSolve(L, ldl, ne, perm, x, x + ne);
-  for (int i = 0; i < m; ++i) P[i] = 0;
-  for (int a = 0; a < ne; ++a) P[rows[a]] = s[a] * x[a];
+  // ldltSolve's permutations folded into the scaling (x: its scratch, in the
+  // pivoting order).
+  for (int k = 0; k < ne; ++k) {
+    const int a = perm[k];
+    x[k] = -s[a] * rhs[rows[a]];
+  }
+  ldltSolveInOrder(L, ldl, ne, x);
+  if (ne < m)
+    for (int i = 0; i < m; ++i) P[i] = 0;
+  for (int k = 0; k < ne; ++k) {
+    const int a = perm[k];
+    P[rows[a]] = s[a] * x[k];
+  }
 }
 
 }  // namespace nscd

@@ -20,12 +20,18 @@ void applyImpulses(StepWorkspace& ws) {
     ws.vnew.noalias() += ws.Y.leftCols(r) * ws.P.head(r);
     return;
   }
-  // Column j of Y is nonzero only on the bodies of its support.
-  for (int j = 0; j < r; ++j)
-    for (std::uint64_t m = ws.row_support[j]; m != 0; m &= m - 1) {
-      const int c = __builtin_ctzll(m);
-      ws.vnew.segment<6>(6 * c) += ws.P[j] * ws.Y.block<6, 1>(6 * c, j);
-    }
+  // Column j of Y is nonzero only on the bodies of its support. A body at a time
+  // (its velocity kept in registers), each entry's sum over the rows in their order.
+  std::uint64_t touched = 0;
+  for (int j = 0; j < r; ++j) touched |= ws.row_support[j];
+  for (; touched != 0; touched &= touched - 1) {
+    const int c = __builtin_ctzll(touched);
+    const std::uint64_t bit = std::uint64_t{1} << c;
+    Vec6 v = ws.vnew.segment<6>(6 * c);
+    for (int j = 0; j < r; ++j)
+      if (ws.row_support[j] & bit) v += ws.P[j] * ws.Y.block<6, 1>(6 * c, j);
+    ws.vnew.segment<6>(6 * c) = v;
+  }
 }
 
 }  // namespace nscd

@@ -6,6 +6,7 @@
 // the groups of bodies springs and PD actuators join (ModelFacts::coupled), so
 // W_ij needs only the pieces of row i on bodies where column j of Y is nonzero
 // (none, for rows on bodies Ŵ does not couple).
+#include <array>
 #include <cstdint>
 
 #include "step_stages.hpp"
@@ -99,6 +100,102 @@ void addBlockPair(const double (&gi)[6][2][6], const int (&qi)[2], int npi, cons
   }
 }
 
+// A known block's rows (ang: their angular entries of G on one body, lin: their
+// linear entry at their axis, row_of_axis: the row along each axis, or -1)
+// against column j of Y on that body (y: its piece): the S sums of W_ij, the
+// angular dot product plus, for a row along the column row's axis k, its one
+// linear product (assembleKnownLowerBlockRows).
+template <int S>
+inline void knownPieceSums(const double (&ang)[3][S], const double (&lin)[S], const int (&row_of_axis)[3], int k,
+                           const double* y, double (&w)[S]) {
+  const double y3 = y[3], y4 = y[4], y5 = y[5];
+  for (int a = 0; a < S; ++a) w[a] = ang[0][a] * y3 + (ang[1][a] * y4 + ang[2][a] * y5);
+  if (k != kLinearZero && row_of_axis[k] >= 0) {
+    const int a = row_of_axis[k];
+    w[a] = lin[a] * y[k] + w[a];
+  }
+}
+
+// Those sums against every row of another block on the body, written into W's
+// columns (wc: W at block bi's first row of column other.row): as +0 plus them
+// (kFirst: w + 0.0, the same value) or added.
+template <int S, bool kFirst>
+void addKnownPieces(const double (&ang)[3][S], const double (&lin)[S], const int (&row_of_axis)[3],
+                    const ConstraintBlock& other, const double* y, Eigen::Index ldy, double* wc, Eigen::Index ldw) {
+  for (int c = 0; c < other.size; ++c, y += ldy, wc += ldw) {
+    double w[S];
+    knownPieceSums<S>(ang, lin, row_of_axis, other.linear_axis[c], y, w);
+    for (int a = 0; a < S; ++a) wc[a] = kFirst ? w[a] + 0.0 : wc[a] + w[a];
+  }
+}
+
+// assembleLowerBlockRows where every block's rows have known linear parts
+// (ConstraintBlock::linear_known): dot6 less the products of the exact zeros. A
+// row of Y has the linear pattern of its row of G (Y's linear part is the body's
+// 1/m times G's, plus +0), so of the linear part's three products all are +-0 but
+// for G_i and G_j along the same axis k, where the one left, G_ik Y_jk, is the
+// linear sum's value; else that sum is +-0, which leaves the angular sum's value
+// (a zero's sign aside: every W entry is summed from +0, which absorbs it).
+// Nothing skipped can be a NaN: the known linear entries are finite, and so are
+// Y's (1/m times them). Block bi's pieces of G are copied out as columns over its
+// rows (the angular sums of its S rows against one column of Y side by side).
+// W's entries are not zeroed before: the first body's sums are written as +0 plus
+// them, a block pair's entries without a shared body as +0.
+template <int S>
+void assembleKnownLowerBlockRows(const StepWorkspace& ws, int bi, const double* Y, Eigen::Index ldy, double* W,
+                                 Eigen::Index ldw) {
+  const ConstraintBlock& blk = ws.blocks[bi];
+  double ang[2][3][S];  // per body: G's angular entries, row by row
+  double lin[2][S];     // per body: a row's linear entry at its axis
+  int row_of_axis[3] = {-1, -1, -1};  // the block's row along each axis (one at most)
+  for (int a = 0; a < S; ++a)
+    if (blk.linear_axis[a] != kLinearZero) row_of_axis[blk.linear_axis[a]] = a;
+  int qi[2] = {kGround, kGround};
+  int np = 0;
+  const Eigen::Index ldg = ws.G.outerStride();
+  for (int body : {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b}) {
+    if (body == kGround) continue;
+    const double* gc = ws.G.data() + blk.row + 6 * body * ldg;
+    for (int a = 0; a < S; ++a) {
+      for (int k = 0; k < 3; ++k) ang[np][k][a] = gc[a + (3 + k) * ldg];
+      const int axis = blk.linear_axis[a];
+      lin[np][a] = axis == kLinearZero ? 0.0 : gc[a + axis * ldg];
+    }
+    qi[np++] = body;
+  }
+  for (int bj = 0; bj < bi; ++bj) {
+    const ConstraintBlock& other = ws.blocks[bj];
+    const int ja = other.body_a, jb = other.body_b == other.body_a ? kGround : other.body_b;
+    double* wc = W + other.row * ldw + blk.row;
+    bool first = true;
+    for (int q = 0; q < np; ++q) {
+      const int body = qi[q];
+      if (body != ja && body != jb) continue;
+      const double* y = Y + other.row * ldy + 6 * body;
+      if (first)
+        addKnownPieces<S, true>(ang[q], lin[q], row_of_axis, other, y, ldy, wc, ldw);
+      else
+        addKnownPieces<S, false>(ang[q], lin[q], row_of_axis, other, y, ldy, wc, ldw);
+      first = false;
+    }
+    if (first)  // no body shared
+      for (int c = 0; c < other.size; ++c)
+        for (int a = 0; a < S; ++a) wc[c * ldw + a] = 0;
+  }
+  // The block against itself: its lower triangle.
+  for (int q = 0; q < np; ++q) {
+    for (int c = 0; c < S; ++c) {
+      double w[S];
+      knownPieceSums<S>(ang[q], lin[q], row_of_axis, blk.linear_axis[c], Y + (blk.row + c) * ldy + 6 * qi[q], w);
+      double* wc = W + (blk.row + c) * ldw + blk.row;
+      for (int a = c; a < S; ++a) wc[a] = q == 0 ? w[a] + 0.0 : wc[a] + w[a];
+    }
+  }
+  if (np == 0)
+    for (int c = 0; c < S; ++c)
+      for (int a = c; a < S; ++a) W[(blk.row + c) * ldw + blk.row + a] = 0;
+}
+
 template <int S>
 void assembleLowerBlockRows(const StepWorkspace& ws, int bi, const double* Y, Eigen::Index ldy, double* W,
                             Eigen::Index ldw) {
@@ -132,23 +229,60 @@ void assembleEqualityDelassus(StepWorkspace& ws, int r) {
       ws.row_support[blk.row + k] = support;
     }
   }
-  const int n = ws.n;
   const Eigen::Index ldg = ws.G.outerStride();
-  for (int i = 0; i < r; ++i) {
-    double* y = ws.Y.col(i).data();
-    for (int k = 0; k < n; ++k) y[k] = 0;
-    for (int body : ws.row_bodies[i])
-      if (body != kGround)
-        applyBodyInverse(ws.body_mass_inverse[body], ws.G.data() + i + 6 * body * ldg, ldg, y + 6 * body);
+  // Y's columns, a block at a time: its bodies' pieces written whole
+  // (applyBodyInverse; a known row's linear entries off its axis are +0: 1/m
+  // times G's +0, plus +0), the other bodies' zeroed.
+  const int nb = ws.nbodies;
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.row >= r) continue;
+    const std::array<int, 2>& bodies = ws.row_bodies[blk.row];
+    for (int c = 0; c < nb; ++c) {
+      if (c == bodies[0] || c == bodies[1]) continue;
+      for (int i = blk.row; i < blk.row + blk.size; ++i)
+        for (int k = 0; k < 6; ++k) ws.Y(6 * c + k, i) = 0;
+    }
+    for (int body : bodies) {
+      if (body == kGround) continue;
+      const StepWorkspace::BodyMassInverse& bm = ws.body_mass_inverse[body];
+      for (int i = blk.row; i < blk.row + blk.size; ++i) {
+        const double* g = ws.G.data() + i + 6 * body * ldg;
+        double* y = ws.Y.col(i).data() + 6 * body;
+        const int axis = blk.linear_axis[i - blk.row];
+        if (!blk.linear_known) {
+          applyBodyInverse(bm, g, ldg, y);
+          continue;
+        }
+        const double g3 = g[3 * ldg], g4 = g[4 * ldg], g5 = g[5 * ldg];
+        for (int k = 0; k < 3; ++k) y[k] = 0.0;
+        if (axis != kLinearZero) y[axis] = bm.lin[axis] * g[axis * ldg] + 0.0;
+        for (int k = 0; k < 3; ++k) y[3 + k] = ((bm.ang[k][0] * g3 + bm.ang[k][1] * g4) + bm.ang[k][2] * g5) + 0.0;
+      }
+    }
   }
   double* W = ws.W.data();
   const Eigen::Index ldw = ws.W.outerStride();
-  for (int j = 0; j < r; ++j)
-    for (int i = j; i < r; ++i) W[j * ldw + i] = 0;
   const double* Y = ws.Y.data();
   const Eigen::Index ldy = ws.Y.outerStride();
+  bool known = true;  // every block's linear parts known: their zeros skipped
+  for (const ConstraintBlock& blk : ws.blocks) known = known && blk.linear_known;
+  if (!known)  // assembleLowerBlockRows adds to W
+    for (int j = 0; j < r; ++j)
+      for (int i = j; i < r; ++i) W[j * ldw + i] = 0;
   for (int bi = 0; bi < int(ws.blocks.size()); ++bi) {
     if (ws.blocks[bi].row >= r) continue;
+    if (known) {
+      switch (ws.blocks[bi].size) {
+        case 1: assembleKnownLowerBlockRows<1>(ws, bi, Y, ldy, W, ldw); break;
+        case 2: assembleKnownLowerBlockRows<2>(ws, bi, Y, ldy, W, ldw); break;
+        case 3: assembleKnownLowerBlockRows<3>(ws, bi, Y, ldy, W, ldw); break;
+        case 4: assembleKnownLowerBlockRows<4>(ws, bi, Y, ldy, W, ldw); break;
+        case 5: assembleKnownLowerBlockRows<5>(ws, bi, Y, ldy, W, ldw); break;
+        case 6: assembleKnownLowerBlockRows<6>(ws, bi, Y, ldy, W, ldw); break;
+        default: break;
+      }
+      continue;
+    }
     switch (ws.blocks[bi].size) {
       case 1: assembleLowerBlockRows<1>(ws, bi, Y, ldy, W, ldw); break;
       case 2: assembleLowerBlockRows<2>(ws, bi, Y, ldy, W, ldw); break;

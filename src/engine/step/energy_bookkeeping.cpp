@@ -32,14 +32,16 @@ double bodyKineticEnergy(const Body& body, const Vec3& v, const Vec3& w) {
 // points against d (into what the projection corrected); at most all of that
 // component. d is a motion of the whole mechanism the joints allow (the
 // projection solves for every row at once), so is what is left. Returns what was taken.
+// turn: scratch, one per body (each body's turn, its logarithm taken once).
 double removeAgainstCorrection(const Model& m, const std::vector<char>& prescribed,
-                               const std::vector<BodyState>& unprojected, State& s, double amount) {
+                               const std::vector<BodyState>& unprojected, std::vector<Vec3>& turn, State& s,
+                               double amount) {
   double dmd = 0, dmv = 0;
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     if (prescribed[i]) continue;
     const Body& b = m.bodies[i];
     const Vec3 dx = s.bodies[i].x - unprojected[i].x;
-    const Vec3 dr = logMap(unprojected[i].q.conjugate() * s.bodies[i].q);  // body frame, as w
+    const Vec3& dr = turn[i] = logMap(unprojected[i].q.conjugate() * s.bodies[i].q);  // body frame, as w
     dmd += b.mass * dx.squaredNorm() + dr.dot(b.inertia * dr);
     dmv += b.mass * dx.dot(s.bodies[i].v) + dr.dot(b.inertia * s.bodies[i].w);
   }
@@ -51,7 +53,7 @@ double removeAgainstCorrection(const Model& m, const std::vector<char>& prescrib
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     if (prescribed[i]) continue;
     s.bodies[i].v -= cut * (s.bodies[i].x - unprojected[i].x);
-    s.bodies[i].w -= cut * logMap(unprojected[i].q.conjugate() * s.bodies[i].q);
+    s.bodies[i].w -= cut * turn[i];
   }
   return taken;
 }
@@ -121,16 +123,21 @@ double inputWorkOfStep(const Model& m, double h, const StepWorkspace& ws, const 
 
 double totalEnergyOf(const Model& m, const State& s) { return kineticEnergyOf(m, s) + potentialEnergyOf(m, s).total(); }
 
-double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, double energy_before,
-                                State& s) {
+double StepStartEnergy::value(const Model& m) const {
+  if (state) return totalEnergyOf(m, *state);
+  return kineticEnergyOf(m, *velocities) + potential + input_work;  // as totalEnergyOf(start) + input_work
+}
+
+double takeBackProjectionEnergy(const Model& m, StepWorkspace& ws, double potential_before,
+                                const StepStartEnergy& start, State& s) {
   const double potential = potentialEnergyOf(m, s).total();
   const double projection_gain = potential - potential_before;
   if (!(projection_gain > 0)) return 0.0;
-  const double step_gain = kineticEnergyOf(m, s) + potential - energy_before;
+  const double step_gain = kineticEnergyOf(m, s) + potential - start.value(m);
   const double excess = std::min(projection_gain, step_gain);
   if (!(excess > 0)) return 0.0;
   const std::vector<char>& prescribed = ws.facts.prescribed_body;
-  const double along = removeAgainstCorrection(m, prescribed, ws.unprojected_bodies, s, excess);
+  const double along = removeAgainstCorrection(m, prescribed, ws.unprojected_bodies, ws.projection_turn, s, excess);
   return along < excess ? along + removeKineticEnergy(m, prescribed, s, excess - along) : along;
 }
 

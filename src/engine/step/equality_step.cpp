@@ -10,6 +10,7 @@
 // (velocityFactorReusable).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "solver/dense_kernels.hpp"
@@ -36,6 +37,54 @@ bool bilateralFreeVelocities(double joint_average, StepWorkspace& ws) {
   return true;
 }
 
+// Every entry of W's lower triangle finite: x * 0 is +-0 for a finite x and NaN
+// for any other, so the products' sum is 0, in whatever order, exactly then;
+// summed two at a time (GCC's vector extension: SSE2 on x86-64).
+bool lowerTriangleFinite(const double* W, Eigen::Index ldw, int r) {
+  typedef double Pair __attribute__((vector_size(16)));
+  Pair acc = {0.0, 0.0};
+  double single = 0;
+  for (int j = 0; j < r; ++j) {
+    const double* w = W + j * ldw + j;
+    const double* end = W + j * ldw + r;
+    for (; end - w >= 2; w += 2) {
+      Pair x;
+      std::memcpy(&x, w, sizeof x);
+      acc += x * 0.0;
+    }
+    if (w < end) single += *w * 0.0;
+  }
+  return acc[0] + acc[1] + single == 0;
+}
+
+// factorScaledRows's copy L = S W S where no row is zero (rows 0 .. r-1), W's
+// finiteness checked on the way (as lowerTriangleFinite): the copy two entries at
+// a time, each entry's product the same. False (L not factored) if W is not finite.
+bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+  typedef double Pair __attribute__((vector_size(16)));
+  Pair acc = {0.0, 0.0};
+  double single = 0;
+  for (int c = 0; c < r; ++c) {
+    const double* wc = W + c * ldw;
+    double* lc = L + c * ldl;
+    const double sc = s[c];
+    int i = c;
+    for (; i + 2 <= r; i += 2) {
+      Pair w, si;
+      std::memcpy(&w, wc + i, sizeof w);
+      std::memcpy(&si, s + i, sizeof si);
+      const Pair l = w * (si * sc);
+      std::memcpy(lc + i, &l, sizeof l);
+      acc += w * 0.0;
+    }
+    if (i < r) {
+      lc[i] = wc[i] * (s[i] * sc);
+      single += wc[i] * 0.0;
+    }
+  }
+  return acc[0] + acc[1] + single == 0;
+}
+
 // The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
 bool factorRows(StepWorkspace& ws, int r) {
   EqualityFactor& f = ws.equality;
@@ -46,10 +95,6 @@ bool factorRows(StepWorkspace& ws, int r) {
     if (!std::isfinite(W[i * ldw + i])) return false;
     maxDiag = std::max(maxDiag, W[i * ldw + i]);
   }
-  double finite = 0;  // W's lower triangle (the one assembled)
-  for (int j = 0; j < r; ++j)
-    for (int i = j; i < r; ++i) finite += W[j * ldw + i] * 0.0;
-  if (finite != 0) return false;
   const double zeroDiag = kRelZeroDiag * maxDiag;
   int ne = 0;
   for (int i = 0; i < r; ++i)
@@ -57,6 +102,12 @@ bool factorRows(StepWorkspace& ws, int r) {
   f.ne = ne;
   double* s = f.scale.data();
   for (int a = 0; a < ne; ++a) s[a] = 1 / std::sqrt(W[f.rows[a] * ldw + f.rows[a]]);
+  if (ne == r) {  // the copy covers W's lower triangle (the one assembled) and checks it
+    if (!scaledCopyIfFinite(W, ldw, r, s, f.L.data(), f.L.outerStride())) return false;
+    pivotedLdlt(f.L.data(), int(f.L.outerStride()), ne, kScaledDrop, f.perm.data(), f.perm.data() + ne);
+    return true;
+  }
+  if (!lowerTriangleFinite(W, ldw, r)) return false;
   factorScaledRows(W, int(ldw), r, f.rows.data(), ne, s, f.L.data(), int(f.L.outerStride()), kScaledDrop,
                    f.perm.data());
   return true;

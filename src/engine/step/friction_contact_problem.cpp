@@ -11,6 +11,32 @@
 
 namespace nscd {
 
+namespace {
+
+// One term of G_i v_free and of G_i v_k (ck: from its first term on).
+template <bool kFirst>
+inline void addRowTerm(double g, double vfree, double vk, double& c, double& ck) {
+  c += g * vfree;
+  ck = kFirst ? g * vk : ck + g * vk;
+}
+
+// A known row's terms on one body (g: its piece of G, stride ld; v: the body's
+// velocities): its axis's linear entry (axis < kLinearZero), then the angular ones.
+template <bool kFirst>
+inline void addKnownRowTerms(const double* g, Eigen::Index ld, const double* vfree, const double* vk, int axis,
+                             double& c, double& ck) {
+  if (axis != kLinearZero) {
+    addRowTerm<kFirst>(g[axis * ld], vfree[axis], vk[axis], c, ck);
+    addRowTerm<false>(g[3 * ld], vfree[3], vk[3], c, ck);
+  } else {
+    addRowTerm<kFirst>(g[3 * ld], vfree[3], vk[3], c, ck);
+  }
+  addRowTerm<false>(g[4 * ld], vfree[4], vk[4], c, ck);
+  addRowTerm<false>(g[5 * ld], vfree[5], vk[5], c, ck);
+}
+
+}  // namespace
+
 // b = G v_free of every row, and a bilateral row's target and an ideal joint's
 // workless average, for a finite v_free (the direct equality step shares it).
 void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
@@ -24,31 +50,69 @@ void rowFreeVelocities(double joint_average, StepWorkspace& ws) {
   // less the same +-0 terms; where it is zero its sign may differ, but it is then
   // added to a b_i that is nonzero or +0 (c * 1 + 0 - 0), which it leaves as it is
   // both ways. (v_k is finite where v_free is.)
+  // A row whose linear parts are known (ConstraintBlock::linear_known) skips their
+  // exact zeros too: finite (0 * a finite v), +-0 like the terms above.
+  const double* G = ws.G.data();
+  const Eigen::Index ldg = ws.G.outerStride();
+  const double* vfree = ws.vfree.data();
+  const double* vk = ws.vk.data();
   for (const ConstraintBlock& blk : ws.blocks) {
     int bodies[2] = {blk.body_a, blk.body_b == blk.body_a ? kGround : blk.body_b};
     if (bodies[1] != kGround && (bodies[0] == kGround || bodies[1] < bodies[0]))
       std::swap(bodies[0], bodies[1]);
     const bool bilateral = blk.kind == BlockKind::Bilateral;
     const bool average = bilateral && blk.joint >= 0 && joint_average > 0;
+    if (blk.linear_known && average && bodies[0] != kGround) {  // a revolute joint's rows, as below
+      for (int k = 0; k < blk.size; ++k) {
+        const int i = blk.row + k;
+        const int axis = blk.linear_axis[k];
+        double c = 0, ck = 0;
+        int j0 = 6 * bodies[0];
+        addKnownRowTerms<true>(G + i + j0 * ldg, ldg, vfree + j0, vk + j0, axis, c, ck);
+        if (bodies[1] != kGround) {
+          j0 = 6 * bodies[1];
+          addKnownRowTerms<false>(G + i + j0 * ldg, ldg, vfree + j0, vk + j0, axis, c, ck);
+        }
+        ws.b[i] = c * 1.0 + 0.0;
+        ws.b[i] -= blk.target[k];
+        ws.b[i] += joint_average * ck;
+      }
+      continue;
+    }
     for (int k = 0; k < blk.size; ++k) {
       const int i = blk.row + k;
-      double c = 0, ck = 0;
-      bool first = true;
+      // The row's columns that may be nonzero, in column order.
+      int cols[12];
+      int nc = 0;
       for (int body : bodies) {
         if (body == kGround) continue;
-        for (int j = 6 * body; j < 6 * body + 6; ++j) {
-          const double g = ws.G(i, j);
-          c += g * ws.vfree[j];
-          if (average) {
-            ck = first ? g * ws.vk[j] : ck + g * ws.vk[j];
-            first = false;
-          }
+        const int j0 = 6 * body;
+        if (!blk.linear_known) {
+          for (int j = j0; j < j0 + 3; ++j) cols[nc++] = j;
+        } else if (blk.linear_axis[k] != kLinearZero) {
+          cols[nc++] = j0 + blk.linear_axis[k];
         }
+        for (int j = j0 + 3; j < j0 + 6; ++j) cols[nc++] = j;
+      }
+      const double* gi = G + i;
+      double c = 0;
+      if (!average || nc == 0) {
+        for (int t = 0; t < nc; ++t) c += gi[cols[t] * ldg] * vfree[cols[t]];
+        ws.b[i] = c * 1.0 + 0.0;
+        if (bilateral) ws.b[i] -= blk.target[k];
+        continue;
+      }
+      double g = gi[cols[0] * ldg];
+      c += g * vfree[cols[0]];
+      double ck = g * vk[cols[0]];
+      for (int t = 1; t < nc; ++t) {
+        g = gi[cols[t] * ldg];
+        c += g * vfree[cols[t]];
+        ck += g * vk[cols[t]];
       }
       ws.b[i] = c * 1.0 + 0.0;
-      if (!bilateral) continue;
       ws.b[i] -= blk.target[k];
-      if (average) ws.b[i] += joint_average * ck;
+      ws.b[i] += joint_average * ck;
     }
   }
 }

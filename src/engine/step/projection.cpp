@@ -205,7 +205,10 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
     if (violation <= tol || pass >= max_passes) {
-      if (!jacobian) gatherPositionRows(m, s, mode, extra, hint, ws);
+      if (!jacobian) {  // the same state (no contacts: jacobian is false only without them)
+        completeBilateralRows(m, s, ws);
+        keyRowsOnPoses(s, ws);
+      }
       // The last check leaves the ring hints as it found them: the next step's
       // search starts where this one did, and may take its points (exact).
       s.ring_hint = ws.check_hint;

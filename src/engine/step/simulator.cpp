@@ -83,13 +83,14 @@ void solveStepProblem(const Model& m, double h, const State& s, bool may_halve, 
 
 // 6. The projection, when the settings ask for it, and the potential energy it
 // adds beyond the inputs' work in the step taken back from the kinetic energy, as
-// far as the step from energy_start (the energy at its start) gained energy.
+// far as the step gained energy from its start (potential_start: the start's
+// potential energy; its velocities are still in ws.vk).
 // (Left in, it drove the C-60's released hook to 1e4 rad/s: the ideal-joint
 // model went from 0.19 to 0.8 J in 2.5 ms, 0.18 J with the projection off.)
 // reuse: velocityFactorReusable, asked before the update.
 // project: false in the paths of a smooth adaptive step, which are projected once
 // at its end (adaptive_step.cpp: the threshold would break their smoothness in h).
-void projectStep(const Model& m, double h, bool reuse, bool project, double energy_start, State& s,
+void projectStep(const Model& m, double h, bool reuse, bool project, double potential_start, State& s,
                  StepWorkspace& ws, StepOutputs& out) {
   const Settings& set = m.settings;
   StepStats& st = out.stats;
@@ -105,7 +106,8 @@ void projectStep(const Model& m, double h, bool reuse, bool project, double ener
   st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
                                           violation, st, reuse);
   if (st.projection_passes > 0)
-    st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before + input_work, energy_start + input_work, s);
+    st.projection_energy_removed = takeBackProjectionEnergy(
+        m, ws, pe_before + input_work, StepStartEnergy{nullptr, &ws.vk, potential_start, input_work}, s);
   st.max_penetration = 0;  // of the rows of the last pass
   for (const ConstraintBlock& blk : ws.blocks)
     if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.contact.cp.gap);
@@ -249,10 +251,11 @@ StepStatus Simulator::advance(double h, int halvings, int substep) {
   // 5. update
   const bool reuse = velocityFactorReusable(h, ws);
   const bool project = m.settings.projection && adaptive_->project_substeps;
-  const double energy_start = project ? totalEnergyOf(m, state_) : 0.0;
+  // The start's kinetic energy, if the take-back needs it, from ws.vk (its velocities).
+  const double potential_start = project ? potentialEnergyOf(m, state_).total() : 0.0;
   advanceState(m, h, ws, state_);
   // 6. projection, and the energy it must not add
-  projectStep(m, h, reuse, project, energy_start, state_, ws, *out_);
+  projectStep(m, h, reuse, project, potential_start, state_, ws, *out_);
   if (!ws.rows_keyed) clearConstraintRows(ws);
   trackJointPositions(m, state_);
   if (!stateFinite(ws, state_)) return StepStatus::NonFinite;

@@ -16,8 +16,15 @@ void initStepOutputs(const Model& m, StepOutputs& out);
 // Clears the outputs of the last step (sizes kept).
 void clearStepOutputs(StepOutputs& out);
 // Drops the constraint blocks and zeroes their rows of G (the row writers rely
-// on G being zero outside the registered blocks).
+// on G being zero outside the registered blocks), but for the joints whose next
+// full gather writes their rows whole at the same places
+// (ModelFacts::rows_written_whole): those are left to that gather
+// (clearStaleJointRows), and G is read only after one.
 void clearConstraintRows(StepWorkspace& ws);
+// At a full gather's start (appendBilateralRows, first_row: its first row): the
+// rows clearConstraintRows left that the gather does not write again at the same
+// places are zeroed; the others it overwrites.
+void clearStaleJointRows(const Model& m, StepWorkspace& ws, int first_row);
 // The rows now in ws kept as a memo of the state's poses, when the model's rows
 // follow the poses (ModelFacts::rows_follow_poses); else nothing.
 void keyRowsOnPoses(const State& s, StepWorkspace& ws);
@@ -66,10 +73,14 @@ void computeFreeVelocity(const Model& m, double h, StepWorkspace& ws);
 // and prescribed actuators, with their position errors and rheonomic targets.
 // rates[i]: commanded rate of actuator i (prescribed).
 // jacobian false: the rows' errors only where a joint kind can skip its G rows
-// (revolute joints: their G rows stay as clearConstraintRows left them, zero),
-// for a check of the violation whose rows are not used.
+// (revolute joints: their G rows stay as clearConstraintRows left them, zero or
+// the last full gather's), for a check of the violation whose rows are not used
+// (G is not read before the next full gather).
 void appendBilateralRows(const Model& m, const State& s, const std::vector<double>& rates,
                          StepWorkspace& ws, bool jacobian = true);
+// The G rows a gather of the errors alone (jacobian false) left out, for the same
+// state, from the placements it kept: then ws holds what a full gather gives.
+void completeBilateralRows(const Model& m, const State& s, StepWorkspace& ws);
 // Continuous joint coordinate at the state (State::joint_position as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);
@@ -202,14 +213,24 @@ double kineticEnergyOf(const Model& m, const State& s);
 double kineticEnergyOf(const Model& m, const Eigen::VectorXd& v);
 // Kinetic plus potential energy of the state.
 double totalEnergyOf(const Model& m, const State& s);
+// The energy at a step's start plus the inputs' work in the step, evaluated only
+// when the take-back asks for it: the start state's (totalEnergyOf), or, the
+// state gone on, the kinetic energy of its velocities as stateVelocities wrote
+// them (a fixed step's ws.vk) plus its potential energy and the inputs' work.
+struct StepStartEnergy {
+  const State* state = nullptr;
+  const Eigen::VectorXd* velocities = nullptr;
+  double potential = 0, input_work = 0;
+  double value(const Model& m) const;
+};
 // Potential energy the projection added beyond potential_before (the potential
 // before it plus the inputs' work in the step), as far as the step as a whole
-// gained energy beyond energy_before (the energy at the step's start plus the
-// inputs' work), taken back from the kinetic energy of the bodies whose motion is
-// not prescribed: first from the velocity against the projection's correction
-// (from ws.unprojected_bodies), the rest by one common factor. Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, double energy_before,
-                                State& s);
+// gained energy beyond the start's (StepStartEnergy), taken back from the kinetic
+// energy of the bodies whose motion is not prescribed: first from the velocity
+// against the projection's correction (from ws.unprojected_bodies), the rest by
+// one common factor. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, StepWorkspace& ws, double potential_before,
+                                const StepStartEnergy& start, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement), position servos (effort x joint motion) and
 // springs applied as body-fixed loads (their power at the step's end x h).

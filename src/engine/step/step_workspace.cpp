@@ -97,6 +97,12 @@ void collectModelFacts(const Model& m, ModelFacts& f) {
   }
   f.rows_follow_poses = f.contact_slots == 0;
   for (const Actuator& ac : m.actuators) f.rows_follow_poses = f.rows_follow_poses && ac.type != ActuatorType::Prescribed;
+  f.rows_written_whole.assign(m.joints.size(), 0);
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    const Joint& joint = m.joints[j];
+    f.rows_written_whole[j] =
+        joint.clearance < 0 && joint.type == JointType::Revolute && joint.body_a != joint.body_b;
+  }
 }
 
 // Every buffer of the step at its largest size: n = 6 per body, up to max_rows
@@ -116,6 +122,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.rhs = ws.vk = ws.vfree = ws.vnew = ws.gyro_impulse = ws.dq = Eigen::VectorXd::Zero(n);
   ws.saved_bodies.resize(m.bodies.size());
   ws.unprojected_bodies.resize(m.bodies.size());
+  ws.projection_turn.resize(m.bodies.size());
   ws.rows_key.resize(m.bodies.size());
   ws.rows_keyed = false;
   ws.saved_dq.setZero(ws.n);
@@ -134,6 +141,9 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.equality.perm.assign(2 * mr, 0);
   ws.equality.factor_rows = 0;
   ws.blocks.reserve(mr);
+  ws.stale_joint_row.assign(m.joints.size(), -1);
+  ws.placements.resize(m.joints.size());
+  ws.stale_joints = 0;
   // Projection passes add up to kRingFacets facets per penetrating ring.
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());
   ws.deferred.reserve(f.contact_slots);
@@ -226,17 +236,48 @@ void initStepWorkspace(const Model& m, StepWorkspace& ws) {
   buildMassMatrix(m, ws);
 }
 
+namespace {
+
+void zeroBlockRows(StepWorkspace& ws, int row, int size, int body_a, int body_b) {
+  for (int k = row; k < row + size; ++k) {
+    if (body_a != kGround) ws.G.block<1, 6>(k, 6 * body_a).setZero();
+    if (body_b != kGround) ws.G.block<1, 6>(k, 6 * body_b).setZero();
+  }
+}
+
+}  // namespace
+
 void clearConstraintRows(StepWorkspace& ws) {
   // G is zero outside the registered blocks' rows and bodies (it starts zero and
-  // every row is written at its block's bodies only), so only those are cleared.
-  for (const ConstraintBlock& blk : ws.blocks)
-    for (int k = blk.row; k < blk.row + blk.size; ++k) {
-      if (blk.body_a != kGround) ws.G.block<1, 6>(k, 6 * blk.body_a).setZero();
-      if (blk.body_b != kGround) ws.G.block<1, 6>(k, 6 * blk.body_b).setZero();
+  // every row is written at its block's bodies only), so only those are cleared,
+  // and a joint's whose next gather writes them whole again (rows_written_whole:
+  // the rows of every gather sit at the same places) only then, if it does not
+  // (clearStaleJointRows).
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.joint >= 0 && ws.facts.rows_written_whole[blk.joint]) {
+      int& stale = ws.stale_joint_row[blk.joint];
+      if (stale == blk.row) continue;
+      if (stale >= 0) zeroBlockRows(ws, stale, blk.size, blk.body_a, blk.body_b);
+      else ++ws.stale_joints;
+      stale = blk.row;
+      continue;
     }
+    zeroBlockRows(ws, blk.row, blk.size, blk.body_a, blk.body_b);
+  }
   ws.blocks.clear();
   ws.rows = 0;
   ws.rows_keyed = false;
+}
+
+void clearStaleJointRows(const Model& m, StepWorkspace& ws, int first_row) {
+  if (ws.stale_joints == 0) return;
+  for (size_t j = 0; j < ws.stale_joint_row.size(); ++j) {
+    int& stale = ws.stale_joint_row[j];
+    if (stale < 0) continue;
+    if (stale != first_row + ws.facts.joint_row_base[j]) zeroBlockRows(ws, stale, 5, m.joints[j].body_a, m.joints[j].body_b);
+    stale = -1;
+  }
+  ws.stale_joints = 0;
 }
 
 void keyRowsOnPoses(const State& s, StepWorkspace& ws) {

@@ -56,6 +56,21 @@ struct ConstraintBlock {
   double error[6] = {0, 0, 0, 0, 0, 0};
   int joint = -1;           // ideal joint index, or -1
   int actuator = -1;        // prescribed actuator index, or -1
+  // What the rows' writer knows of each row's linear part (the first three of its
+  // six columns on each of its bodies): linear_known, and per row its axis k (0-2:
+  // zero but for entry k, a finite one; one row per axis at most) or kLinearZero
+  // (all three zero). The
+  // Delassus operator skips those exact zeros' products (delassus_operator.cpp).
+  bool linear_known = false;
+  signed char linear_axis[6] = {0, 0, 0, 0, 0, 0};
+};
+constexpr signed char kLinearZero = 3;
+
+// A joint's placement (joint_rows.hpp's JointPlacement, its bodies' states aside),
+// kept by a gather of the rows' errors alone for completeBilateralRows.
+struct PlacementMemo {
+  Vec3 pa, pb, axis_a, dp;
+  Vec3 frame[3];
 };
 
 // Which contact candidates a geometry pass gathers.
@@ -86,6 +101,9 @@ struct ModelFacts {
   // Per body: its motion is prescribed (an input), so energy bookkeeping leaves its
   // velocity alone.
   std::vector<char> prescribed_body;
+  // Per joint: every full gather writes its rows whole on its bodies (a revolute
+  // joint between two bodies), at facts.joint_row_base from the gather's first row.
+  std::vector<char> rows_written_whole;
   // Ideal joints alone (no contact pairs, clearance joints or prescribed
   // motions): the rows of a gather depend on the bodies' poses alone.
   bool rows_follow_poses = false;
@@ -145,6 +163,7 @@ class StepWorkspace {
   Eigen::VectorXd dq;            // projection: the displacement of a pass
   std::vector<BodyState> saved_bodies;  // projection: state before a pass (backtracking)
   std::vector<BodyState> unprojected_bodies;  // projection: state before its first pass (energy take-back)
+  std::vector<Vec3> projection_turn;          // energy take-back: each body's turn in the projection
   Eigen::VectorXd saved_dq;             // projection: the unsolved pass's correction
   // Projection: its last pass took the velocity stage's factor (velocityFactorReusable).
   bool projection_reused_factor = false;
@@ -163,6 +182,11 @@ class StepWorkspace {
 
   // Constraint rows
   std::vector<ConstraintBlock> blocks;
+  // Per joint (rows_written_whole): the first row of its rows that a clear left in
+  // G (the next full gather writes them again, clearStaleJointRows), or -1.
+  std::vector<int> stale_joint_row;
+  int stale_joints = 0;
+  std::vector<PlacementMemo> placements;  // per joint: at the last gather of the errors alone
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
