@@ -105,7 +105,7 @@ void projectStep(const Model& m, double h, bool reuse, bool project, double ener
   st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
                                           violation, st, reuse);
   if (st.projection_passes > 0)
-    st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before + input_work, energy_start + input_work, s);
+    st.projection_energy_removed = takeBackProjectionEnergy(m, h, ws, pe_before + input_work, energy_start + input_work, s);
   st.max_penetration = 0;  // of the rows of the last pass
   for (const ConstraintBlock& blk : ws.blocks)
     if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.contact.cp.gap);

@@ -206,10 +206,13 @@ double totalEnergyOf(const Model& m, const State& s);
 // before it plus the inputs' work in the step), as far as the step as a whole
 // gained energy beyond energy_before (the energy at the step's start plus the
 // inputs' work), taken back from the kinetic energy of the bodies whose motion is
-// not prescribed: first from the velocity against the projection's correction
-// (from ws.unprojected_bodies), the rest by one common factor. Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, const StepWorkspace& ws, double potential_before, double energy_before,
-                                State& s);
+// not prescribed: where the projection's last check has contact rows, first by a
+// plastic impact on them (contacts approaching faster than their gap closes in a
+// step of h); with ideal joints alone, first from the velocity against the
+// projection's correction (from ws.unprojected_bodies); the rest by one common
+// factor. Writes the problem buffers (W, Y, b, P) and ws.dq. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, double h, StepWorkspace& ws, double potential_before,
+                                double energy_before, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement), position servos (effort x joint motion) and
 // springs applied as body-fixed loads (their power at the step's end x h).
