@@ -98,7 +98,7 @@ void projectSmoothStep(const Model& m, const State& start, StepWorkspace& ws, St
   st.projection_passes = projectPositions(m, s, ws, set.projection_max_iterations, set.projection_tolerance,
                                           violation, st, false);
   if (st.projection_passes > 0)
-    st.projection_energy_removed = takeBackProjectionEnergy(m, ws, pe_before, StepStartEnergy{&start}, s);
+    st.projection_energy_removed = takeBackProjectionEnergy(m, s.t - start.t, ws, pe_before, StepStartEnergy{&start}, s);
   if (!ws.rows_keyed) clearConstraintRows(ws);
 }
 

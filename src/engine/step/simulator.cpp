@@ -107,7 +107,7 @@ void projectStep(const Model& m, double h, bool reuse, bool project, double pote
                                           violation, st, reuse);
   if (st.projection_passes > 0)
     st.projection_energy_removed = takeBackProjectionEnergy(
-        m, ws, pe_before + input_work, StepStartEnergy{nullptr, &ws.vk, potential_start, input_work}, s);
+        m, h, ws, pe_before + input_work, StepStartEnergy{nullptr, &ws.vk, potential_start, input_work}, s);
   st.max_penetration = 0;  // of the rows of the last pass
   for (const ConstraintBlock& blk : ws.blocks)
     if (blk.kind != BlockKind::Bilateral) st.max_penetration = std::max(st.max_penetration, -blk.contact.cp.gap);

@@ -226,10 +226,13 @@ struct StepStartEnergy {
 // Potential energy the projection added beyond potential_before (the potential
 // before it plus the inputs' work in the step), as far as the step as a whole
 // gained energy beyond the start's (StepStartEnergy), taken back from the kinetic
-// energy of the bodies whose motion is not prescribed: first from the velocity
-// against the projection's correction (from ws.unprojected_bodies), the rest by
-// one common factor. Returns what was taken (J).
-double takeBackProjectionEnergy(const Model& m, StepWorkspace& ws, double potential_before,
+// energy of the bodies whose motion is not prescribed: where the projection's last
+// check has contact rows, first by a plastic impact on them (contacts approaching
+// faster than their gap closes in a step of h); with ideal joints alone, first
+// from the velocity against the projection's correction (from
+// ws.unprojected_bodies); the rest by one common factor. Writes the problem
+// buffers (W, Y, b, P) and ws.dq. Returns what was taken (J).
+double takeBackProjectionEnergy(const Model& m, double h, StepWorkspace& ws, double potential_before,
                                 const StepStartEnergy& start, State& s);
 // Work the inputs did in the step just solved (J, >= 0): prescribed motions
 // (effort x commanded displacement), position servos (effort x joint motion) and
