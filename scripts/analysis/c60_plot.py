@@ -95,14 +95,16 @@ def after_opening(d, f):
     if f.get('c7_open_ms') is None:
         return None
     plate = np.degrees(yaw(d, 'plate') - yaw(d, 'plate')[0])
-    k_max = int(np.argmax(plate))
+    # The first time the plate comes within 0.01 deg of its largest turn: it may touch
+    # C3 again later at the same angle, after its rebound.
+    k_max = int(np.nonzero(plate >= plate.max() - 0.01)[0][0])
     c3_gap, c3_fn = group_gap(d, 'C3'), group_fn(d, 'C3')
     hit = np.nonzero((c3_gap < c60_trip_figures.CLOSED) & (t > 1e-3 * f['c7_open_ms']))[0]
     r = {'plate_turn_max_deg': round(float(plate[k_max]), 2), 'plate_turn_max_at_ms': round(1e3 * float(t[k_max]), 2),
          'c3_first_closed_ms': round(1e3 * float(t[hit[0]]), 2) if len(hit) else None,
          'c3_force_max_N': round(float(c3_fn.max()), 2)}
     if len(hit):
-        after = t >= t[k_max]
+        after = t >= t[hit[0]]  # the rebound from the first landing on C3
         r['plate_rebound_min_deg'] = round(float(plate[after].min()), 2)
         open_ = np.nonzero(c3_gap >= c60_trip_figures.CLOSED)[0]
         r['c3_closed_from_ms'] = round(1e3 * float(t[open_[-1] + 1]), 2) if len(open_) and open_[-1] + 1 < len(t) else None
