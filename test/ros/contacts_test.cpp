@@ -3,6 +3,7 @@
 // ~contact_markers shows them while contacts are active. Scenes: urdf/ball.urdf
 // (contacts.test, impacts) and urdf/slope.urdf (contacts_slope.test, four
 // sticking contact points with friction).
+#include <atomic>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -22,15 +23,35 @@ using visualization_msgs::MarkerArray;
 
 namespace {
 
-// Steps the node by `count` and returns the ~contacts message of the result.
+// Steps the node by `count` and returns the ~contacts message of the result (null,
+// with a failure that says what the node answered, if it did not step or publish).
 nscd_sim::ContactArrayConstPtr stepNode(uint32_t count, uint64_t expected_steps) {
   nscd_sim::Step step;
   step.request.count = count;
-  if (!nscd_test::callService(nodeTopic("step"), step) || !step.response.success) return {};
-  if (step.response.steps_taken != count) return {};
-  return nscd_test::waitForMessage<nscd_sim::ContactArray>(
+  const ::testing::AssertionResult called = nscd_test::callService(nodeTopic("step"), step);
+  if (!called) {
+    ADD_FAILURE() << "~step(" << count << "): " << called.message();
+    return {};
+  }
+  if (!step.response.success || step.response.steps_taken != count) {
+    ADD_FAILURE() << "~step(" << count << ") answered success " << int(step.response.success) << ", "
+                  << step.response.steps_taken << " steps taken: " << step.response.message;
+    return {};
+  }
+  // Steps, not wall time, say which publication: wait generously for it.
+  const double timeout = 20.0;
+  std::atomic<uint64_t> seen{0};
+  auto msg = nscd_test::waitForMessage<nscd_sim::ContactArray>(
       nodeTopic("contacts"),
-      [&](const nscd_sim::ContactArray& m) { return m.steps == expected_steps; }, 5.0);
+      [&](const nscd_sim::ContactArray& m) {
+        seen = m.steps;
+        return m.steps == expected_steps;
+      },
+      timeout);
+  if (!msg)
+    ADD_FAILURE() << "no ~contacts after step " << expected_steps << " within " << timeout
+                  << " s (last seen: after step " << seen << ")";
+  return msg;
 }
 
 // Same engine, same scene, same steps: the same numbers, bit for bit.
@@ -122,8 +143,8 @@ TEST(Contacts, ForcesEqualInProcessSimulator) {
 // fn * force_scale along the normal, a friction arrow ft * force_scale (none if
 // ft is zero), and a sphere at the point.
 TEST(Contacts, MarkersAppearWhileContactsActive) {
-  auto contacts = nscd_test::waitForMessage<nscd_sim::ContactArray>(nodeTopic("contacts"), 5.0);
-  ASSERT_TRUE(contacts);
+  auto contacts = nscd_test::waitForMessage<nscd_sim::ContactArray>(nodeTopic("contacts"), 20.0);
+  ASSERT_TRUE(contacts) << "no ~contacts within 20 s";
   ASSERT_FALSE(contacts->contacts.empty()) << "run after ForcesEqualInProcessSimulator";
   double force_scale = 0, size = 0;
   ASSERT_TRUE(ros::param::get(nodeTopic("force_scale"), force_scale));
@@ -131,8 +152,8 @@ TEST(Contacts, MarkersAppearWhileContactsActive) {
 
   auto markers = nscd_test::waitForMessage<MarkerArray>(
       nodeTopic("contact_markers"),
-      [](const MarkerArray& a) { return countNamespace(a, "contact_point") > 0; }, 5.0);
-  ASSERT_TRUE(markers);
+      [](const MarkerArray& a) { return countNamespace(a, "contact_point") > 0; }, 20.0);
+  ASSERT_TRUE(markers) << "no ~contact_markers with a contact_point within 20 s";
   ASSERT_FALSE(markers->markers.empty());
   EXPECT_EQ(markers->markers[0].action, Marker::DELETEALL);
   EXPECT_EQ(countNamespace(*markers, "contact_point"),
@@ -176,8 +197,8 @@ TEST(Contacts, NoMarkersWithoutContacts) {
   std_srvs::Empty reset;
   ASSERT_TRUE(nscd_test::callService(nodeTopic("reset"), reset));
   auto contacts = nscd_test::waitForMessage<nscd_sim::ContactArray>(
-      nodeTopic("contacts"), [](const nscd_sim::ContactArray& m) { return m.steps == 0; }, 5.0);
-  ASSERT_TRUE(contacts);
+      nodeTopic("contacts"), [](const nscd_sim::ContactArray& m) { return m.steps == 0; }, 20.0);
+  ASSERT_TRUE(contacts) << "no ~contacts of step 0 within 20 s after ~reset";
   EXPECT_TRUE(contacts->contacts.empty());
   // Markers of the same or a later publication (same stamp as ~contacts).
   auto markers = nscd_test::waitForMessage<MarkerArray>(
@@ -185,8 +206,8 @@ TEST(Contacts, NoMarkersWithoutContacts) {
       [&](const MarkerArray& a) {
         return !a.markers.empty() && a.markers[0].header.stamp >= contacts->header.stamp;
       },
-      5.0);
-  ASSERT_TRUE(markers);
+      20.0);
+  ASSERT_TRUE(markers) << "no ~contact_markers as new as the ~contacts of the reset within 20 s";
   ASSERT_EQ(markers->markers.size(), 1u);  // only the DELETEALL
   EXPECT_EQ(markers->markers[0].action, Marker::DELETEALL);
 }

@@ -129,6 +129,7 @@ void publish(ros::Publisher& pub, double value) {
     std::mutex mutex;
     std::condition_variable done_cv;
     bool done = false, called = false;
+    std::string why;  // of a failed call
     nscd_sim::Step srv;
   };
   auto call = std::make_shared<Call>();
@@ -140,10 +141,11 @@ void publish(ros::Publisher& pub, double value) {
       std::lock_guard<std::mutex> lock(call->mutex);
       s = call->srv;
     }
-    const bool called = nscd_test::callService(nodeTopic("step"), s, seconds);
+    const ::testing::AssertionResult called = nscd_test::callService(nodeTopic("step"), s, seconds);
     std::lock_guard<std::mutex> lock(call->mutex);
     call->srv = s;
     call->called = called;
+    call->why = called.message();
     call->done = true;
     call->done_cv.notify_all();
   }).detach();
@@ -151,12 +153,12 @@ void publish(ros::Publisher& pub, double value) {
   call->done_cv.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return call->done; });
   const double took = (ros::WallTime::now() - start).toSec();
   if (!call->done) return ::testing::AssertionFailure() << "~step(" << count << ") no answer after " << took << " s";
-  if (!call->called) return ::testing::AssertionFailure() << "~step failed after " << took << " s";
+  if (!call->called) return ::testing::AssertionFailure() << "~step(" << count << "): " << call->why;
   srv = call->srv;
   return ::testing::AssertionSuccess();
 }
 
-bool resetAnswers() {
+::testing::AssertionResult resetAnswers() {
   std_srvs::Empty reset;
   return nscd_test::callService(nodeTopic("reset"), reset, 10.0);
 }
@@ -408,11 +410,14 @@ int main(int argc, char** argv) {
     g_watch = std::make_unique<NodeWatch>();
     g_node = std::make_unique<nscd_test::SteppedNode>();
     // The log is connected once a line the node writes now arrives (a reset's INFO).
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(60.0);
     while (g_watch->count(Log::INFO, "reset to the initial state") == 0 && ros::WallTime::now() < end) {
       resetAnswers();
       ros::WallDuration(0.2).sleep();
     }
+    // The tests that count warnings fail then; this line says why.
+    if (g_watch->count(Log::INFO, "reset to the initial state") == 0)
+      std::fprintf(stderr, "malformed_traffic: the node's /rosout lines did not arrive within 60 s\n");
     const int result = RUN_ALL_TESTS();
     g_node.reset();
     g_watch.reset();

@@ -1,6 +1,7 @@
 #include "ros_test_support.hpp"
 
 #include <cmath>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <std_msgs/Float64.h>
@@ -17,9 +18,51 @@ int runRosTestNode(int argc, char** argv, const char* name, const std::function<
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const int result = run ? run() : RUN_ALL_TESTS();
+  closeServiceClients();
   spinner.stop();
   ros::shutdown();
   return result;
+}
+
+namespace {
+std::mutex g_clients_mutex;
+std::map<std::string, ros::ServiceClient> g_clients;  // by "<service> <md5sum>"
+}  // namespace
+
+::testing::AssertionResult persistentServiceClient(
+    const std::string& name, const std::string& md5sum, double timeout,
+    const std::function<ros::ServiceClient()>& make, ros::ServiceClient& client) {
+  {
+    std::lock_guard<std::mutex> lock(g_clients_mutex);
+    auto it = g_clients.find(name + " " + md5sum);
+    if (it != g_clients.end() && it->second.isValid()) {
+      client = it->second;
+      return ::testing::AssertionSuccess();
+    }
+  }
+  const ros::WallTime start = ros::WallTime::now();
+  if (!ros::service::waitForService(name, static_cast<int>(timeout * 1000)))
+    return ::testing::AssertionFailure() << "service " << name << " not available after "
+                                         << (ros::WallTime::now() - start).toSec() << " s";
+  client = make();
+  if (!client.isValid())
+    return ::testing::AssertionFailure() << "no connection to service " << name << " (type md5sum "
+                                         << md5sum << ") after "
+                                         << (ros::WallTime::now() - start).toSec() << " s";
+  std::lock_guard<std::mutex> lock(g_clients_mutex);
+  g_clients[name + " " + md5sum] = client;
+  return ::testing::AssertionSuccess();
+}
+
+void dropServiceClient(const std::string& name, const std::string& md5sum) {
+  std::lock_guard<std::mutex> lock(g_clients_mutex);
+  g_clients.erase(name + " " + md5sum);
+}
+
+void closeServiceClients() {
+  std::lock_guard<std::mutex> lock(g_clients_mutex);
+  for (auto& kv : g_clients) kv.second.shutdown();
+  g_clients.clear();
 }
 
 const char* const kNode = "/nscd_sim_node";
@@ -80,19 +123,31 @@ nscd_sim::ContactArrayConstPtr SteppedNode::waitForContacts(
   return {};
 }
 
+// A step the node refuses (success false) returns null quietly (tests expect some);
+// a lost call or a state that does not show up is a failure that says what it saw.
 nscd_sim::ContactArrayConstPtr SteppedNode::step(uint32_t count, double timeout) {
   nscd_sim::Step srv;
   srv.request.count = count;
   last_steps_taken_ = 0;
   last_step_success_ = false;
-  if (!callService(nodeTopic("step"), srv, timeout)) return {};
+  const ::testing::AssertionResult called = callService(nodeTopic("step"), srv, timeout);
+  if (!called) {
+    ADD_FAILURE() << "~step(" << count << "): " << called.message();
+    return {};
+  }
   last_steps_taken_ = srv.response.steps_taken;
   last_step_success_ = srv.response.success;
   if (!srv.response.success || srv.response.steps_taken != std::max<uint32_t>(count, 1)) return {};
   const double t = srv.response.sim_time;
   auto contacts =
       waitForContacts([t](const nscd_sim::ContactArray& m) { return m.sim_time == t; }, timeout);
-  if (!contacts) return {};
+  if (!contacts) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ADD_FAILURE() << "~step(" << count << ") answered sim_time " << t << " s but no ~contacts of it within "
+                  << timeout << " s (latest: "
+                  << (contacts_ ? std::to_string(contacts_->sim_time) + " s" : std::string("none")) << ")";
+    return {};
+  }
   // /tf of the same publication (same stamp) or a later one: the same poses.
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
   while (ros::ok() && ros::WallTime::now() < end) {
@@ -104,6 +159,9 @@ nscd_sim::ContactArrayConstPtr SteppedNode::step(uint32_t count, double timeout)
     }
     ros::WallDuration(0.002).sleep();
   }
+  std::lock_guard<std::mutex> lock(mutex_);
+  ADD_FAILURE() << "~step(" << count << "): /tf of the ~contacts stamped " << contacts->header.stamp
+                << " not received within " << timeout << " s (" << tf_.size() << " frames seen)";
   return {};
 }
 
@@ -120,7 +178,9 @@ ros::Publisher& SteppedNode::commandPublisher(const std::string& actuator) {
 void SteppedNode::publishCommand(const std::string& actuator, double value) {
   std_msgs::Float64 msg;
   msg.data = value;
-  publishWhenConnected(commandPublisher(actuator), msg);
+  if (!publishWhenConnected(commandPublisher(actuator), msg))
+    ADD_FAILURE() << "the node did not subscribe to " << nodeTopic(actuator + "/command")
+                  << " within 10 s; command " << value << " not sent";
 }
 
 bool SteppedNode::command(const std::string& actuator, double value, double timeout) {
@@ -131,6 +191,8 @@ bool SteppedNode::command(const std::string& actuator, double value, double time
     if (keyFigure(name) == value) return true;
     ros::WallDuration(0.002).sleep();
   }
+  ADD_FAILURE() << "command " << value << " on " << nodeTopic(actuator + "/command") << ": ~key_figures "
+                << name << " still " << keyFigure(name) << " after " << timeout << " s";
   return false;
 }
 
