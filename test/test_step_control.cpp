@@ -395,6 +395,27 @@ TEST(StepControl, DeterministicAndRestorable) {
   }
 }
 
+// Warm starts are impulses: a kept adaptive step leaves them scaled to the next
+// step's fine substep (step_next / 4), whatever length it was itself. A ball of
+// 1 kg resting on the plane takes m g times that from it; a step cut to 0.3 ms
+// (its substeps 75 us) leaves 9.81 * 1e-3 / 4 N s for the next step of 1 ms, not
+// 9.81 * 0.3e-3 / 4.
+TEST(StepControl, WarmStartsScaledToTheNextStep) {
+  Simulator sim = makeSim(ballScene(0, 0, 0.5, 1e-3), adaptive(1e-3, 1e-3));
+  runTo(sim, 0.05);
+  const double t = sim.state().t;
+  sim.planStep(t + 0.3e-3);
+  ASSERT_EQ(sim.step(), StepStatus::Ok);
+  EXPECT_NEAR(sim.stats().h, 0.3e-3, 1e-15);
+  const State& s = sim.state();
+  EXPECT_EQ(s.step_next, 1e-3);
+  ASSERT_TRUE(s.warm_valid[0]);
+  EXPECT_NEAR(s.warm[0][0], 9.81 * s.step_next / 4, 1e-3 * 9.81 * s.step_next / 4);
+  // And the next step, of 1 ms, starts its fine path from them as they are.
+  ASSERT_EQ(sim.step(), StepStatus::Ok);
+  EXPECT_NEAR(sim.state().warm[0][0], 9.81 * sim.state().step_next / 4, 1e-3 * 9.81 * 1e-3 / 4);
+}
+
 // A prescribed motion with a corner in its schedule: a step ends exactly at the
 // corner and at the end of the run, and the joint follows the schedule there.
 TEST(StepControl, StepsEndAtScheduleCornersAndTheEnd) {

@@ -34,6 +34,8 @@ struct State {
   std::vector<double> prev_commands;
   // Warm starts: the impulse (normal, tangent 1, tangent 2) each contact slot had
   // in the last step, and whether it was active then; one impulse per bilateral row.
+  // After an adaptive step, scaled to a quarter of step_next (the next step's
+  // fine substep: adaptive_step.cpp).
   std::vector<Vec3> warm;
   std::vector<char> warm_valid;
   std::vector<double> warm_bilateral;

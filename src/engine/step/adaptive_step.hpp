@@ -48,6 +48,11 @@ struct AdaptiveStepWorkspace {
   // False while the paths of a smooth step are taken: their substeps skip the
   // projection (Simulator::advance), the step's answer is projected once.
   bool project_substeps = true;
+  // The substep length of the last path taken (whose warm starts state_ holds).
+  double kept_substep = 0;
+  // True while the unprojected paths of a step that starts with every contact
+  // open are taken: a substep with an event ends them (they are taken again).
+  bool stop_at_event = false;
 };
 
 // Sizes the buffers for the model (`state`: the simulator's, for the sizes).
