@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer
-# (docs/fuzzing.md): a build of its own ($NSCD_WS, default .build/asan) with the
+# (docs/fuzzing.md): a build of its own ($NSCD_WS, default build/asan) with the
 # sanitizers in CXXFLAGS/LDFLAGS (no CMakeLists change) of only what is run, then
 # every gtest, the pytest files through the instrumented module (python3 itself is
 # not instrumented: libasan is preloaded, leak checks off for Python's own
@@ -12,7 +12,9 @@
 set -euo pipefail
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-export NSCD_WS=${NSCD_WS:-$repo/.build/asan}
+# Under build/: rosrun looks for an executable anywhere in the package but build/,
+# and a second nscd_run elsewhere in it makes `rosrun nscd_sim nscd_run` ask which.
+export NSCD_WS=${NSCD_WS:-$repo/build/asan}
 ws=$NSCD_WS
 # float-cast-overflow is not part of GCC's -fsanitize=undefined.
 san="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow"
