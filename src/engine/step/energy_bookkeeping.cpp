@@ -198,9 +198,10 @@ double takeBackProjectionEnergy(const Model& m, double h, StepWorkspace& ws, dou
   const double excess = std::min(projection_gain, step_gain);
   if (!(excess > 0)) return 0.0;
   const std::vector<char>& prescribed = ws.facts.prescribed_body;
-  bool contacts = false;
-  for (const ConstraintBlock& blk : ws.blocks) contacts = contacts || blk.kind != BlockKind::Bilateral;
-  // Ideal joints alone: no solve (most of their steps take something back).
+  // Ideal joints alone: no solve (most of their steps take something back). The
+  // projection's check gathers the bilateral rows first and the contacts after them
+  // (gatherPositionRows), so the last block says whether there are contact rows.
+  const bool contacts = !ws.blocks.empty() && ws.blocks.back().kind != BlockKind::Bilateral;
   const double first = contacts ? removeByPlasticImpact(m, h, prescribed, ws, s, excess)
                                 : removeAgainstCorrection(m, prescribed, ws.unprojected_bodies, ws.projection_turn, s, excess);
   return first < excess ? first + removeKineticEnergy(m, prescribed, s, excess - first) : first;
