@@ -76,15 +76,7 @@ double removeByPlasticImpact(const Model& m, double h, const std::vector<char>& 
                              State& s, double amount) {
   const int r = ws.rows;
   stateVelocities(s, ws.dq);  // ws.dq: scratch once the projection is done
-  ws.problem.clear();
-  for (ConstraintBlock& blk : ws.blocks) {
-    if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // projection rows carry gaps only
-    ProblemBlock pb;
-    pb.kind = blk.kind;
-    pb.row = blk.row;
-    pb.size = blk.size;
-    ws.problem.push_back(pb);
-  }
+  positionProblem(s, ws);  // b set again below
   ws.b.head(r).noalias() = ws.G.topRows(r) * ws.dq;
   for (const ConstraintBlock& blk : ws.blocks) {
     if (blk.kind != BlockKind::Bilateral)

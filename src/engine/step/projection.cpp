@@ -13,6 +13,24 @@
 #include "step_stages.hpp"
 
 namespace nscd {
+
+// One pass over the rows (a projection pass's cost counts: see solvePass).
+void positionProblem(const State& s, StepWorkspace& ws) {
+  ws.problem.clear();
+  for (const ConstraintBlock& blk : ws.blocks) {
+    if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
+    ProblemBlock pb;
+    pb.kind = blk.kind;
+    pb.row = blk.row;
+    pb.size = blk.size;
+    ws.problem.push_back(pb);
+    if (blk.kind == BlockKind::Bilateral)
+      for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
+    else
+      ws.b[blk.row] = blk.contact.cp.gap;
+  }
+}
+
 namespace {
 
 constexpr int kProjectionBacktracks = 4;
@@ -98,19 +116,7 @@ bool leastDistanceCorrection(StepWorkspace& ws) {
 // jacobian false (rows gathered without G): false unless the factor is reused.
 bool solvePass(const State& s, StepWorkspace& ws, bool reuse, bool jacobian, const SolverOptions& opt) {
   const int r = ws.rows;
-  ws.problem.clear();
-  for (ConstraintBlock& blk : ws.blocks) {
-    if (blk.kind != BlockKind::Bilateral) writeJacobianRows(s, blk, ws.G);  // see activateContacts
-    ProblemBlock pb;
-    pb.kind = blk.kind;
-    pb.row = blk.row;
-    pb.size = blk.size;
-    ws.problem.push_back(pb);
-    if (blk.kind == BlockKind::Bilateral)
-      for (int k = 0; k < blk.size; ++k) ws.b[blk.row + k] = blk.error[k];
-    else
-      ws.b[blk.row] = blk.contact.cp.gap;
-  }
+  positionProblem(s, ws);
   // The step's own factor (equality_step.cpp) where it took the direct path, else the solver's.
   if (reuse && ws.equality.factor_rows == r) {
     solveWithEqualityFactor(ws, r, ws.b.data(), ws.P.data());

@@ -205,6 +205,11 @@ bool velocityFactorReusable(double h, const StepWorkspace& ws);
 // of the state's ring hints: the state is not changed.
 double measureViolation(const Model& m, const State& s, StepWorkspace& ws,
                         double* bilateral = nullptr);
+// The position-level problem of the rows a check gathered at s: its blocks
+// (ws.problem), the contact rows' Jacobians written into ws.G (the check gathers
+// their gaps only) and b = the rows' errors and gaps. For the projection's
+// passes and the energy take-back's impact (which sets b again).
+void positionProblem(const State& s, StepWorkspace& ws);
 
 // ---- 7. energy bookkeeping (energy_bookkeeping.cpp)
 EnergyReport potentialEnergyOf(const Model& m, const State& s);
