@@ -15,6 +15,7 @@
 #include "nscd_sim/scheduled_step.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "physics_scenes.hpp"
+#include "step/adaptive_step.hpp"
 
 using namespace nscd;
 using namespace nscd_test;
@@ -478,4 +479,58 @@ TEST(StepControl, ScheduleJumpsAreTakenAtTheStepStart) {
   EXPECT_NEAR(sim.jointPosition(0), tau * 0.01 / (2 * J) + tau * 0.1 / J * 0.1, 1e-6);
   EXPECT_LE(steps, 60);
   EXPECT_GE(h_min, 1e-3);
+}
+
+namespace {
+
+// The bodies of a path of n substeps of h / n from t = 0: one body whose centre
+// moves as x(t) along x and which turns by phi(t) about z, its velocities set to
+// v(t) plus `flip` (-1)^i (what the substeps end with need not be what the
+// positions move with).
+std::vector<std::vector<BodyState>> pathOf(int n, double h, const std::function<double(double)>& x,
+                                           const std::function<double(double)>& phi, double flip) {
+  std::vector<std::vector<BodyState>> path(n + 1, std::vector<BodyState>(1));
+  for (int i = 0; i <= n; ++i) {
+    const double t = h * i / n;
+    BodyState& b = path[i][0];
+    b.x = Vec3(x(t), 0, 0);
+    b.q = Quat(Eigen::AngleAxisd(phi(t), Vec3::UnitZ()));
+    b.v = Vec3((i % 2 ? -1 : 1) * flip, 0, 0);
+    b.w = Vec3::Zero();
+  }
+  return path;
+}
+
+}  // namespace
+
+// The embedded estimate of an event step, against its closed form: for x = c t^3
+// the velocities over the substeps (displacement / s) have second differences
+// 6 c s^2 exactly, two of them in 4 substeps, counted by n / (2 (n - 2)) = 1
+// and times h, over atol (rtol 0); a turn phi = c t^3 at a rotation length r the
+// same times r. A uniformly accelerated body whose velocities flip by 0.5 m/s
+// every substep (the joints' rows on the theta-average velocity do that) gives 0:
+// the positions never move with the flip.
+TEST(StepControl, EmbeddedEventErrorClosedForm) {
+  const double h = 1e-3, s = h / 4, c = 2.0, atol = 1e-6, r = 0.05;
+  const std::vector<double> length{r};
+  auto zero = [](double) { return 0.0; };
+  const double cubic = embeddedEventError(pathOf(4, h, [&](double t) { return c * t * t * t; }, zero, 0), 4, h,
+                                          atol, 0, length);
+  EXPECT_NEAR(cubic, h * 12 * c * s * s / atol, 1e-6 * h * 12 * c * s * s / atol);
+  const double turn = embeddedEventError(pathOf(4, h, zero, [&](double t) { return c * t * t * t; }, 0), 4, h,
+                                         atol, 0, length);
+  EXPECT_NEAR(turn, h * 12 * r * c * s * s / atol, 1e-6 * h * 12 * r * c * s * s / atol);
+  const double uniform = embeddedEventError(
+      pathOf(4, h, [](double t) { return 0.3 + 1.5 * t - 4.905 * t * t; }, [](double t) { return 7 * t * t; }, 0.5),
+      4, h, atol, 0, length);
+  EXPECT_LT(uniform, 1e-6);
+  // A step from 1 m/s to -1 m/s at the second substep's end: two second
+  // differences of 2 m/s, times h, over atol + rtol h |u|.
+  const double rtol = 1e-3;
+  const double impact = embeddedEventError(
+      pathOf(4, h, [&](double t) { return t <= 2 * s ? t : 4 * s - t; }, zero, 0), 4, h, atol, rtol, length);
+  EXPECT_NEAR(impact, h * 4 / (atol + rtol * h * 1), 1e-6 * h * 4 / (atol + rtol * h));
+  std::vector<std::vector<BodyState>> bad = pathOf(4, h, zero, zero, 0);
+  bad[3][0].x[1] = NAN;
+  EXPECT_EQ(embeddedEventError(bad, 4, h, atol, rtol, length), INFINITY);
 }

@@ -136,6 +136,8 @@ void initAdaptiveStep(const Model& m, const StepWorkspace& ws, const State& stat
   a.start_command = state.commands;
   initStepOutputs(m, a.coarse_out);
   initStepOutputs(m, a.fine_out);
+  initStepOutputs(m, a.fine_report);
+  a.fine_substeps.assign(kFineSubsteps + 1, state.bodies);
   // Warm-start slots: kMaxPointsPerPair per contact pair, then kMaxClearancePoints
   // per clearance joint (contact_candidates.cpp, clearance_joint.cpp).
   a.rotation_length.resize(m.bodies.size());
@@ -187,6 +189,8 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
   // The State's warm starts were made for a substep of a.start.step_next / kFineSubsteps.
   if (a.start.step_next > 0) scaleWarmStarts((h / n) / (a.start.step_next / kFineSubsteps), state_);
   a.kept_substep = h / n;
+  const bool record = n == kFineSubsteps;  // the fine path's bodies, for embeddedEventError
+  if (record) a.fine_substeps[0] = state_.bodies;  // same sizes: no allocation
   for (int i = 1; i <= n; ++i) {
     const double f = i == n ? fraction : fraction * i / n;
     for (size_t c = 0; c < a.end_command.size(); ++c) {
@@ -197,6 +201,7 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
     iterations += out_->stats.iterations;
     if (s == StepStatus::NonFinite) return s;
     if (s == StepStatus::NotConverged) worst = s;
+    if (record) a.fine_substeps[i] = state_.bodies;
     event = event || stepHadEvent(out_->stats) || !sameContactModes(a.slot_mu, a.start, state_);
     addForces(*out_, 1.0 / n, forces);
     if (i > 1) gatherStats(total, out_->stats);
@@ -206,36 +211,68 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
   return worst;
 }
 
-// One attempt of length h from a.start: the coarse path (kept in a.coarse), then
-// the fine one (left in state_), and their scaled difference. Where a contact
-// changed mode, velocities jump: the paths' velocities differ by O(1) whenever
-// one has met the event and the other not yet, however short the step. Their
-// difference then counts as the displacement it makes over the step (weight h),
-// which a shorter step does reduce: the event is located in time.
+// One attempt of length h from a.start. Where every contact is open at the
+// start (below), the coarse path first: an event on it ends the unprojected
+// paths at once. Else the fine path first (left in state_): if it had a nonsmooth
+// event, its answer is the step's (first order) and the coarse path is not taken:
+// the error is embeddedEventError's, from the fine path's own substeps (4
+// substep solves where the paths take 6). Otherwise the coarse path (kept in
+// a.coarse) and the paths' scaled difference. Where a contact changed mode on the
+// coarse path alone, velocities jump: the paths' velocities differ by O(1)
+// whenever one has met the event and the other not yet, however short the step.
+// Their difference then counts as the displacement it makes over the step
+// (weight h), which a shorter step does reduce: the event is located in time.
 StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& error, bool& event,
                                           long& iterations) {
   AdaptiveStepWorkspace& a = *adaptive_;
   const Settings& set = model_.settings;
   StepStatus coarse = StepStatus::Ok, fine = StepStatus::Ok;
-  // The coarse path (kept in a.coarse) and the fine one (left in state_). While
-  // a.stop_at_event, an event ends the paths at once (the step is taken again).
-  auto takePaths = [&]() {
-    bool coarse_event = false, fine_event = false;
+  auto takeCoarse = [&](bool& coarse_event) {
     state_ = a.start;  // same sizes: no allocation
     coarse = takeAdaptivePath(kCoarseSubsteps, h, fraction, a.coarse_out, coarse_event, iterations);
-    if (coarse_event && a.stop_at_event) {
+    a.coarse_out.stats = out_->stats;
+  };
+  auto differenceOfPaths = [&]() {
+    const bool finite = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite;
+    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
+                   : INFINITY;
+  };
+  // Every contact open at the start: the coarse path first, ended by an event.
+  auto takeUnprojectedPaths = [&]() {
+    bool coarse_event = false, fine_event = false;
+    a.coarse_taken = true;
+    takeCoarse(coarse_event);
+    if (coarse_event) {
       event = true;
       error = INFINITY;
       return;
     }
     a.coarse = state_;
-    a.coarse_out.stats = out_->stats;
     state_ = a.start;
     fine = takeAdaptivePath(kFineSubsteps, h, fraction, a.fine_out, fine_event, iterations);
+    event = fine_event;
+    differenceOfPaths();
+  };
+  auto takePaths = [&]() {
+    bool coarse_event = false, fine_event = false;
+    state_ = a.start;
+    fine = takeAdaptivePath(kFineSubsteps, h, fraction, a.fine_out, fine_event, iterations);
+    a.coarse_taken = !fine_event || fine == StepStatus::NonFinite;
+    if (!a.coarse_taken) {
+      event = true;
+      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length);
+      return;
+    }
+    // The fine path's State and outputs set aside (swapped: no allocation) while
+    // the coarse path is taken, then put back.
+    std::swap(state_, a.coarse);
+    std::swap(*out_, a.fine_report);
+    takeCoarse(coarse_event);
+    std::swap(state_, a.coarse);
+    std::swap(*out_, a.fine_report);
+    a.kept_substep = h / kFineSubsteps;  // the warm starts in state_ are the fine path's
     event = coarse_event || fine_event;
-    const bool finite = fine != StepStatus::NonFinite && coarse != StepStatus::NonFinite;
-    error = finite ? scaledStateDifference(a.coarse, state_, set.atol, set.rtol, event ? h : 1.0, a.rotation_length)
-                   : INFINITY;
+    differenceOfPaths();
   };
   a.order = 2;
   a.tableau = false;
@@ -250,7 +287,7 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
     a.project_substeps = false;
     // Unprojected paths with an event are of no use: stop at the first one.
     a.stop_at_event = true;
-    takePaths();
+    takeUnprojectedPaths();
     StepStatus status = fine;
     if (!event && error < INFINITY) {
       a.tableau = true;
@@ -333,7 +370,7 @@ StepStatus Simulator::stepAdaptive() {
     if (a.tableau) projectSmoothStep(m, a.start, *ws_, state_, st);
     trackJointPositions(m, state_);
   }
-  keepForces(a.fine_out, a.coarse_out, f, *out_);
+  keepForces(a.fine_out, a.coarse_taken ? a.coarse_out : a.fine_out, f, *out_);
   st.extrapolated = !event;
   state_.t = h == h_plan && !std::isnan(end_plan) ? end_plan : t0 + h;
   double next = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order,

@@ -6,7 +6,9 @@
 // fine one by half that: the difference is the fine path's error). Where nothing
 // nonsmooth happened in the step, their Richardson combination is kept
 // (kRichardsonFactor), else the fine path's answer; a PI controller picks the
-// next length. Where every contact is open at the step's start (a mechanism of
+// next length. The fine path is taken first: where it has a nonsmooth event its
+// answer is first order anyway, the coarse path is skipped and the error is
+// estimated from the fine path's own substeps (embeddedEventError). Where every contact is open at the step's start (a mechanism of
 // ideal joints, a body in flight) and Settings::max_order > 2, the paths are
 // taken without the projection and, while the estimate is above the tolerance,
 // paths of 6, 8, ... substeps are added to an Aitken-Neville tableau (order k
@@ -28,6 +30,15 @@ namespace nscd {
 struct AdaptiveStepWorkspace {
   State start;          // the State the step starts from (restored for each path)
   State coarse;         // after the coarse path
+  // The bodies at the start and after each substep of the last fine path
+  // (kFineSubsteps + 1 entries): the embedded estimate of an event step.
+  std::vector<std::vector<BodyState>> fine_substeps;
+  // What the fine path reported (its last substep's outputs), kept while the
+  // coarse path is taken after it.
+  StepOutputs fine_report;
+  // False when the last attempt's fine path had an event: the coarse path was
+  // not taken (coarse_out and coarse are stale).
+  bool coarse_taken = true;
   std::vector<double> start_command;  // the commands the planned step starts from (planStep)
   std::vector<double> end_command;    // the commands at the end of the planned step
   StepOutputs coarse_out, fine_out;  // the paths' forces (averaged) and stats
@@ -88,6 +99,24 @@ bool contactsOpen(const std::vector<double>& slot_mu, const State& s);
 // True if the step's stats show a nonsmooth event or a rescue: an unsolved
 // problem, contacts closed by the answer, a halving, a plastic or frictionless fallback, scaled impulses.
 bool stepHadEvent(const StepStats& st);
+// The embedded error estimate of a path with an event (adaptive_step.cpp takes
+// no coarse path then), from the bodies at the path's start and after each of
+// its n >= 3 equal substeps of s = h / n (`substeps`, n + 1 entries): the
+// velocity each body moved with over each substep (its displacement / s; the
+// turn, world frame, times rotation_length / s), the path's velocity error as
+// n / (2 (n - 2)) times the summed second differences of those, counted as the
+// displacement it makes over the step (times h) and scaled by atol + rtol h
+// |u|. For a first-order scheme in a smooth stretch that is the fine path's
+// error, as the coarse-fine difference gives it (the path errs by n (s^2 / 2) a';
+// its n - 2 second differences sum to (n - 2) s^2 a'). A velocity jump inside the
+// path (an impact, a contact that sticks or lets go) counts about twice its size
+// times h: the event is located in time. Displacements, not the velocities the
+// substeps end with: the rows of ideal joints on the theta-average velocity
+// leave an O(s) part of those flipping sign every substep (kCoarseSubsteps,
+// adaptive_step.cpp), which the positions never move with; counted, it shrank
+// the slider-crank's steps 3-fold. Infinite if a state is not finite.
+double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, int n, double h, double atol,
+                          double rtol, const std::vector<double>& rotation_length);
 // The Richardson combination y_fine + (y_fine - y_coarse): the fine path's error
 // of order h h/4 cancelled against the coarse one's h h/2, for a scheme of order
 // 1. The theta-scheme is first order on mechanisms (measured: a four-bar's error

@@ -122,6 +122,48 @@ bool stepHadEvent(const StepStats& st) {
          st.iteration_matrix_fallback;
 }
 
+double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, int n, double h, double atol,
+                          double rtol, const std::vector<double>& rotation_length) {
+  double worst = 0;
+  const double s = h / n;
+  for (size_t b = 0; b < substeps[0].size(); ++b) {
+    const double r = rotation_length[b];
+    // Per component (linear, then r times the world rotation): the summed second
+    // differences of the velocities the body moved with over each substep, and
+    // the largest of them.
+    Vec3 sum_lin = Vec3::Zero(), sum_ang = Vec3::Zero();
+    Vec3 du_lin = Vec3::Zero(), du_ang = Vec3::Zero();  // the last first difference
+    Vec3 u_lin = Vec3::Zero(), u_ang = Vec3::Zero();    // the last substep's velocities
+    double speed = 0;
+    for (int i = 1; i <= n; ++i) {
+      const BodyState& p = substeps[i - 1][b];
+      const BodyState& q = substeps[i][b];
+      const Vec3 lin = (q.x - p.x) / s;
+      const Vec3 ang = (r / s) * (p.q * logMap(p.q.conjugate() * q.q));
+      if (i > 1) {
+        const Vec3 dl = lin - u_lin, da = ang - u_ang;
+        if (i > 2) {
+          sum_lin += (dl - du_lin).cwiseAbs();
+          sum_ang += (da - du_ang).cwiseAbs();
+        }
+        du_lin = dl;
+        du_ang = da;
+      }
+      u_lin = lin;
+      u_ang = ang;
+      speed = std::max({speed, lin.cwiseAbs().maxCoeff(), ang.cwiseAbs().maxCoeff()});
+    }
+    if (!sum_lin.allFinite() || !sum_ang.allFinite() || !std::isfinite(speed)) return INFINITY;
+    // The path's n substeps err by n (s^2 / 2) a' in velocity; its n - 2 second
+    // differences sum to (n - 2) s^2 a'.
+    const double factor = n / (2.0 * (n - 2));
+    const double e = h * factor * std::max(sum_lin.maxCoeff(), sum_ang.maxCoeff()) / (atol + rtol * h * speed);
+    // A NaN fails every comparison: it makes the estimate infinite.
+    worst = e <= worst ? worst : (std::isnan(e) ? INFINITY : e);
+  }
+  return worst;
+}
+
 void extrapolateBodies(const std::vector<BodyState>& coarse, double f, std::vector<BodyState>& fine) {
   for (size_t i = 0; i < fine.size(); ++i) {
     const BodyState& c = coarse[i];
