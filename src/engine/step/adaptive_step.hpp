@@ -8,8 +8,9 @@
 // (kRichardsonFactor), else the fine path's answer; a PI controller picks the
 // next length. The fine path is taken first: where it has a nonsmooth event its
 // answer is first order anyway, the coarse path is skipped and the error is
-// estimated from the fine path's own substeps (embeddedEventError). Where every contact is open at the step's start (a mechanism of
-// ideal joints, a body in flight) and Settings::max_order > 2, the paths are
+// estimated from the fine path's own substeps (embeddedEventError). Where every
+// contact is open at the step's start (a mechanism of ideal joints, a body in
+// flight) and Settings::max_order > 2, the paths are
 // taken without the projection and, while the estimate is above the tolerance,
 // paths of 6, 8, ... substeps are added to an Aitken-Neville tableau (order k
 // with k paths); the order and the next length are chosen for the least work
