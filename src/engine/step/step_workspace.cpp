@@ -143,6 +143,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.blocks.reserve(mr);
   ws.stale_joint_row.assign(m.joints.size(), -1);
   ws.placements.resize(m.joints.size());
+  placeGroundSides(m, ws);
   ws.stale_joints = 0;
   // Projection passes add up to kRingFacets facets per penetrating ring.
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());

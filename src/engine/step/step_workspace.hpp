@@ -187,6 +187,9 @@ class StepWorkspace {
   std::vector<int> stale_joint_row;
   int stale_joints = 0;
   std::vector<PlacementMemo> placements;  // per joint: at the last gather of the errors alone
+  // Per joint whose body A is the ground: that side's placement (pa, axis_a, frame),
+  // the same at every state (placeGroundSides).
+  std::vector<PlacementMemo> ground_sides;
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
