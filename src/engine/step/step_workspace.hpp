@@ -7,6 +7,7 @@
 // The stage functions are declared in step_stages.hpp.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -228,6 +229,17 @@ struct StepOutputs {
 // Contact pairs or clearance joints: contact rows can join a problem (else
 // every problem of the model is its ideal joints' and prescribed motions' rows).
 inline bool hasContactSources(const StepWorkspace& ws) { return ws.facts.contact_slots > 0; }
+
+// to = from, ring hints of the same size (no allocation) copied in place: none to
+// copy without clearance joints, where the vector's out-of-line assignment was
+// most of a joints-only step's copies.
+inline void copyRingHints(const std::vector<double>& from, std::vector<double>& to) {
+  if (from.size() != to.size()) {
+    to = from;
+    return;
+  }
+  std::copy(from.begin(), from.end(), to.begin());
+}
 
 // The state of a body, or of ground (identity pose, at rest) for kGround.
 inline const BodyState& bodyOrGround(const State& s, int body) {
