@@ -256,6 +256,16 @@ void assembleEqualityDelassus(StepWorkspace& ws, int r) {
         const double g3 = g[3 * ldg], g4 = g[4 * ldg], g5 = g[5 * ldg];
         for (int k = 0; k < 3; ++k) y[k] = 0.0;
         if (axis != kLinearZero) y[axis] = bm.lin[axis] * g[axis * ldg] + 0.0;
+        if (bm.ang_diagonal) {
+          // The sums less their +-0 products (finite G): a nonzero diagonal product
+          // is the sum; a zero one leaves a +-0 sum that the + 0.0 makes +0 both
+          // ways. (A non-finite G makes W's diagonal non-finite both ways, and
+          // factorRows hands the step to the general path, which forms Y again.)
+          y[3] = bm.ang[0][0] * g3 + 0.0;
+          y[4] = bm.ang[1][1] * g4 + 0.0;
+          y[5] = bm.ang[2][2] * g5 + 0.0;
+          continue;
+        }
         for (int k = 0; k < 3; ++k) y[3 + k] = ((bm.ang[k][0] * g3 + bm.ang[k][1] * g4) + bm.ang[k][2] * g5) + 0.0;
       }
     }

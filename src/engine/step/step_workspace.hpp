@@ -148,6 +148,7 @@ class StepWorkspace {
   struct BodyMassInverse {
     double lin[3];
     double ang[3][3];
+    bool ang_diagonal = false;  // ang's off-diagonal entries exact zeros (principal axes)
   };
   std::vector<BodyMassInverse> body_mass_inverse;
   bool mass_inverse_by_body = false;
