@@ -74,7 +74,12 @@ void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
 
 }  // namespace
 
-int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
+namespace {
+
+// pivotedLdlt (N > 0: n = N, the loops' bounds known).
+template <int N = 0>
+int pivotedLdltRows(double* A, int ld, int n_, double dropTol, int* perm, int* nonzero) {
+  const int n = N > 0 ? N : n_;
   for (int i = 0; i < n; ++i) perm[i] = i;
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   // Threshold pivoting: the next row in order is the pivot while its diagonal is
@@ -134,6 +139,22 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
     }
   }
   return n;
+}
+
+}  // namespace
+
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
+  // Common sizes of joints' problems with the loops' bounds known, as
+  // ldltSolveInOrder, up to 12 rows (at 20 it cost the four-bar 133
+  // instructions a step, callgrind, nscd_mujoco_compare --single fourbar).
+  switch (n) {
+    case 5: return pivotedLdltRows<5>(A, ld, n, dropTol, perm, nonzero);
+    case 6: return pivotedLdltRows<6>(A, ld, n, dropTol, perm, nonzero);
+    case 10: return pivotedLdltRows<10>(A, ld, n, dropTol, perm, nonzero);
+    case 11: return pivotedLdltRows<11>(A, ld, n, dropTol, perm, nonzero);
+    case 12: return pivotedLdltRows<12>(A, ld, n, dropTol, perm, nonzero);
+    default: return pivotedLdltRows(A, ld, n, dropTol, perm, nonzero);
+  }
 }
 
 namespace {
