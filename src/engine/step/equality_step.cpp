@@ -115,7 +115,9 @@ bool factorRows(StepWorkspace& ws, int r) {
 
 // U = W P + b over the nonzero P_j, and the solver's error sqrt(|U|^2) / max(1, |b|)
 // summed block by block (errorFromU).
-double residualOf(StepWorkspace& ws, int r, double bnorm) {
+template <int N = 0>
+double residualRows(StepWorkspace& ws, int r_, double bnorm) {
+  const int r = N > 0 ? N : r_;
   double* U = ws.equality.U.data();
   const double* W = ws.W.data();
   const Eigen::Index ldw = ws.W.outerStride();
@@ -134,6 +136,19 @@ double residualOf(StepWorkspace& ws, int r, double bnorm) {
     sum += s;
   }
   return std::sqrt(sum) / std::max(1.0, bnorm);
+}
+
+// The same sums for every r; the joints' common sizes (dense_kernels.cpp's
+// ldltSolveInOrder) with the loops' bounds known.
+double residualOf(StepWorkspace& ws, int r, double bnorm) {
+  switch (r) {
+    case 5: return residualRows<5>(ws, r, bnorm);
+    case 6: return residualRows<6>(ws, r, bnorm);
+    case 10: return residualRows<10>(ws, r, bnorm);
+    case 11: return residualRows<11>(ws, r, bnorm);
+    case 12: return residualRows<12>(ws, r, bnorm);
+    default: return residualRows(ws, r, bnorm);
+  }
 }
 
 }  // namespace
