@@ -60,7 +60,10 @@ bool lowerTriangleFinite(const double* W, Eigen::Index ldw, int r) {
 // factorScaledRows's copy L = S W S where no row is zero (rows 0 .. r-1), W's
 // finiteness checked on the way (as lowerTriangleFinite): the copy two entries at
 // a time, each entry's product the same. False (L not factored) if W is not finite.
-bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+// N > 0: r = N, the loops' bounds known (scaledCopyIfFinite).
+template <int N = 0>
+bool scaledCopyRows(const double* W, Eigen::Index ldw, int r_, const double* s, double* L, Eigen::Index ldl) {
+  const int r = N > 0 ? N : r_;
   typedef double Pair __attribute__((vector_size(16)));
   Pair acc = {0.0, 0.0};
   double single = 0;
@@ -83,6 +86,18 @@ bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* 
     }
   }
   return acc[0] + acc[1] + single == 0;
+}
+
+bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+  switch (r) {  // the joints' common sizes (ldltSolveInOrder)
+    case 5: return scaledCopyRows<5>(W, ldw, r, s, L, ldl);
+    case 6: return scaledCopyRows<6>(W, ldw, r, s, L, ldl);
+    case 10: return scaledCopyRows<10>(W, ldw, r, s, L, ldl);
+    case 11: return scaledCopyRows<11>(W, ldw, r, s, L, ldl);
+    case 12: return scaledCopyRows<12>(W, ldw, r, s, L, ldl);
+    case 20: return scaledCopyRows<20>(W, ldw, r, s, L, ldl);
+    default: return scaledCopyRows(W, ldw, r, s, L, ldl);
+  }
 }
 
 // The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
