@@ -525,10 +525,12 @@ TEST(EqualityPath, DirectStepAnswerIsTheSolversBitForBit) {
 // their assembled start and after 20 steps: equal bit for bit (tolerance 0;
 // memcmp, so a signed zero counts too).
 TEST(EqualityPath, EqualityOperatorIsTheDenseAssemblysLowerTriangle) {
+  int diagonal = 0, full = 0;  // bodies whose angular M^-1 is diagonal (Y's short sums) and not
   for (const char* scene : {"urdf/pendulum.urdf", "test/scenes/double_pendulum.urdf", "urdf/fourbar.urdf",
                             "urdf/slider_crank.urdf", "urdf/c60_ideal.urdf"}) {
     StepHarness t(scene);
     ASSERT_TRUE(t.ws.mass_inverse_by_body && t.ws.nbodies <= 64) << scene;  // (Ŵ = M^-1: jointOperator's)
+    for (const StepWorkspace::BodyMassInverse& bm : t.ws.body_mass_inverse) ++(bm.ang_diagonal ? diagonal : full);
     for (int step = 0; step < 21; ++step) {
       if (step > 0) {
         t.velocityStage(1e-4);
@@ -551,6 +553,8 @@ TEST(EqualityPath, EqualityOperatorIsTheDenseAssemblysLowerTriangle) {
       }
     }
   }
+  EXPECT_GT(diagonal, 0);  // both kinds of body met
+  EXPECT_GT(full, 0);
 }
 
 // The direct path is the step's for a model of ideal joints alone (counted in

@@ -24,6 +24,27 @@ JointPlacement placeJoint(const Joint& j, const State& s) {
   return JointPlacement{a, b, pa, pb, axis_a, frameAround(axis_a), pb - pa};
 }
 
+JointPlacement placeJointOnGround(const Joint& j, const State& s, const PlacementMemo& g) {
+  const BodyState& b = bodyOrGround(s, j.body_b);
+  const Vec3 pb = b.q * j.anchor_b + b.x;
+  return JointPlacement{bodyOrGround(s, kGround), b, g.pa, pb, g.axis_a, Frame3{{g.frame[0], g.frame[1], g.frame[2]}},
+                        pb - g.pa};
+}
+
+void placeGroundSides(const Model& m, StepWorkspace& ws) {
+  // placeJoint's own arithmetic on the ground's (constant) pose: the same bits.
+  ws.ground_sides.assign(m.joints.size(), PlacementMemo{});
+  for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+    const Joint& j = m.joints[ji];
+    if (j.body_a != kGround) continue;
+    const BodyState a{};  // the ground's pose (bodyOrGround)
+    const Vec3 pa = a.q * j.anchor_a + a.x;
+    const Vec3 axis_a = a.q * j.axis_a;
+    const Frame3 f = frameAround(axis_a);
+    ws.ground_sides[ji] = PlacementMemo{pa, Vec3::Zero(), axis_a, Vec3::Zero(), {f.e[0], f.e[1], f.e[2]}};
+  }
+}
+
 void putRow(Eigen::MatrixXd& G, int row, const State& s, int body_a, int body_b,
             const Vec3& lin_b, const Vec3& ang_b_world, const Vec3& lin_a,
             const Vec3& ang_a_world) {
@@ -109,7 +130,7 @@ void appendBilateralRows(const Model& m, const State& s, const std::vector<doubl
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const Joint& j = m.joints[ji];
     if (j.clearance >= 0) continue;  // replaced by unilateral contacts
-    const JointPlacement p = placeJoint(j, s);
+    const JointPlacement p = j.body_a == kGround ? placeJointOnGround(j, s, ws.ground_sides[ji]) : placeJoint(j, s);
     ConstraintBlock& blk = ws.blocks.emplace_back();  // built in place (a block is ~0.4 kB)
     blk.kind = BlockKind::Bilateral;
     blk.body_a = j.body_a;

@@ -29,6 +29,8 @@ struct JointPlacement {
   Vec3 dp;        // pb - pa
 };
 JointPlacement placeJoint(const Joint& j, const State& s);
+// The same, body A the ground, its side taken from placeGroundSides's memo.
+JointPlacement placeJointOnGround(const Joint& j, const State& s, const PlacementMemo& ground_side);
 
 // Jacobian of one row, written into G: linear part (world) and the angular
 // part given as a world vector for each body; converted to body frames here.

@@ -8,22 +8,38 @@ namespace nscd {
 
 namespace {
 
-// One row's two 6-column pieces written into G (column-major, leading dimension
-// ld) at the bodies' columns (null: the ground), as putRow writes them: body B's
-// piece set to [lin_b, R_b^T ang_b], body A's added to the cleared row, hence +0.0
-// (+0 + x is x, but -0 comes out +0, as putRow's += makes it).
-inline void writeRow(double* gb, double* ga, Eigen::Index ld, const Vec3& lin_b, const Vec3& ang_b,
-                     const Vec3& lin_a, const Vec3& ang_a) {
-  if (gb)
-    for (int k = 0; k < 3; ++k) {
-      gb[k * ld] = lin_b[k];
-      gb[(k + 3) * ld] = ang_b[k];
-    }
-  if (ga)
-    for (int k = 0; k < 3; ++k) {
-      ga[k * ld] = 0.0 + lin_a[k];
-      ga[(k + 3) * ld] = 0.0 + ang_a[k];
-    }
+// One row's 6-column piece on a body written into G (column-major, leading
+// dimension ld), as putRow writes it: body B's piece set to [lin, R_b^T ang], body
+// A's added to the cleared row, hence +0.0 (+0 + x is x, but -0 comes out +0, as
+// putRow's += makes it). A ground side has no piece, so its values are not formed.
+inline void writePieceB(double* gb, Eigen::Index ld, const Vec3& lin, const Vec3& ang) {
+  for (int k = 0; k < 3; ++k) {
+    gb[k * ld] = lin[k];
+    gb[(k + 3) * ld] = ang[k];
+  }
+}
+inline void writePieceA(double* ga, Eigen::Index ld, const Vec3& lin, const Vec3& ang) {
+  for (int k = 0; k < 3; ++k) {
+    ga[k * ld] = 0.0 + lin[k];
+    ga[(k + 3) * ld] = 0.0 + ang[k];
+  }
+}
+
+// The five rows' pieces (ga, gb: G at the first row on bodies A and B), on the
+// bodies present (kA, kB; a ground side has no piece, so its values are not formed).
+template <bool kA, bool kB>
+void writeRevolutePieces(const Quat& qa_t, const Quat& qb_t, const Vec3& ra, const Vec3& rb, const Vec3& axis_b,
+                         const Frame3& fa, double* ga, double* gb, Eigen::Index ld) {
+  for (int i = 0; i < 3; ++i) {  // the anchors coincide
+    const Vec3 d = Vec3::Unit(i);
+    if (kB) writePieceB(gb + i, ld, d, qb_t * rb.cross(d));
+    if (kA) writePieceA(ga + i, ld, -d, qa_t * (-(ra.cross(d))));
+  }
+  for (int i = 1; i < 3; ++i) {  // the child's axis on the parent's
+    const Vec3 c = axis_b.cross(fa.e[i]);
+    if (kB) writePieceB(gb + 2 + i, ld, Vec3::Zero(), qb_t * c);
+    if (kA) writePieceA(ga + 2 + i, ld, Vec3::Zero(), qa_t * (-c));
+  }
 }
 
 }  // namespace
@@ -49,25 +65,23 @@ void appendRevoluteRows(const Joint& j, const State& s, const JointPlacement& p,
   const Vec3 rb = p.pb - p.b.x, ra = p.pa - p.a.x;
   double* gb = j.body_b != kGround ? &G(r, 6 * j.body_b) : nullptr;
   double* ga = j.body_a != kGround ? &G(r, 6 * j.body_a) : nullptr;
+  if (ga && gb)
+    writeRevolutePieces<true, true>(qa_t, qb_t, ra, rb, axis_b, p.fa, ga, gb, ld);
+  else if (gb)
+    writeRevolutePieces<false, true>(qa_t, qb_t, ra, rb, axis_b, p.fa, ga, gb, ld);
+  else if (ga)
+    writeRevolutePieces<true, false>(qa_t, qb_t, ra, rb, axis_b, p.fa, ga, gb, ld);
   // The linear parts: +-1 at the axis of a point row, 0 elsewhere (linear_axis).
   blk.linear_known = true;
   for (int i = 0; i < 3; ++i) {  // the anchors coincide
-    const Vec3 d = Vec3::Unit(i);
-    writeRow(gb, ga, ld, d, qb_t * rb.cross(d), -d, qa_t * (-(ra.cross(d))));
     blk.linear_axis[r - blk.row] = static_cast<signed char>(i);
-    blk.error[r - blk.row] = p.dp.dot(d);
+    blk.error[r - blk.row] = p.dp.dot(Vec3::Unit(i));
     ++r;
-    if (gb) ++gb;
-    if (ga) ++ga;
   }
   for (int i = 1; i < 3; ++i) {  // the child's axis on the parent's
-    const Vec3 c = axis_b.cross(p.fa.e[i]);
-    writeRow(gb, ga, ld, Vec3::Zero(), qb_t * c, Vec3::Zero(), qa_t * (-c));
     blk.linear_axis[r - blk.row] = kLinearZero;
     blk.error[r - blk.row] = axis_b.dot(p.fa.e[i]);
     ++r;
-    if (gb) ++gb;
-    if (ga) ++ga;
   }
 }
 

@@ -138,8 +138,11 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
 
 namespace {
 
-// ldltSolve on the right-hand side in the pivoting order, in place.
-void ldltSolveInOrder(const double* L, int ld, int n, double* tmp) {
+// ldltSolve on the right-hand side in the pivoting order, in place (N > 0: n = N,
+// the loops unrolled).
+template <int N = 0>
+void ldltSolveRows(const double* L, int ld, int n_, double* tmp) {
+  const int n = N > 0 ? N : n_;
   for (int k = 0; k < n; ++k) {  // L z = y (a dependent row's column is 0)
     const double zk = tmp[k];
     if (zk == 0) continue;
@@ -155,6 +158,21 @@ void ldltSolveInOrder(const double* L, int ld, int n, double* tmp) {
     double s = tmp[k] / ck[k];
     for (int i = k + 1; i < n; ++i) s -= ck[i] * tmp[i];
     tmp[k] = s;
+  }
+}
+
+// The same arithmetic for every n; common sizes of joints' problems (5 rows a
+// revolute or prismatic joint, 6 a fixed one) with the loops' bounds known.
+void ldltSolveInOrder(const double* L, int ld, int n, double* tmp) {
+  switch (n) {
+    case 5: ldltSolveRows<5>(L, ld, n, tmp); return;
+    case 6: ldltSolveRows<6>(L, ld, n, tmp); return;
+    case 10: ldltSolveRows<10>(L, ld, n, tmp); return;
+    case 11: ldltSolveRows<11>(L, ld, n, tmp); return;
+    case 12: ldltSolveRows<12>(L, ld, n, tmp); return;
+    case 15: ldltSolveRows<15>(L, ld, n, tmp); return;
+    case 20: ldltSolveRows<20>(L, ld, n, tmp); return;
+    default: ldltSolveRows(L, ld, n, tmp); return;
   }
 }
 

@@ -8,6 +8,8 @@
 // (none, for rows on bodies Ŵ does not couple).
 #include <array>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
 #include "step_stages.hpp"
 
@@ -100,17 +102,24 @@ void addBlockPair(const double (&gi)[6][2][6], const int (&qi)[2], int npi, cons
   }
 }
 
+// f(std::integral_constant<int, C>) for each C in turn.
+template <typename F, int... C>
+inline void forEachIndex(F&& f, std::integer_sequence<int, C...>) {
+  (f(std::integral_constant<int, C>{}), ...);
+}
+
 // A known block's rows (ang: their angular entries of G on one body, lin: their
 // linear entry at their axis, row_of_axis: the row along each axis, or -1)
 // against column j of Y on that body (y: its piece): the S sums of W_ij, the
 // angular dot product plus, for a row along the column row's axis k, its one
-// linear product (assembleKnownLowerBlockRows).
-template <int S>
+// linear product (assembleKnownLowerBlockRows). Rows from `From` on only (the
+// block against itself: its lower triangle).
+template <int S, int From = 0>
 inline void knownPieceSums(const double (&ang)[3][S], const double (&lin)[S], const int (&row_of_axis)[3], int k,
                            const double* y, double (&w)[S]) {
   const double y3 = y[3], y4 = y[4], y5 = y[5];
-  for (int a = 0; a < S; ++a) w[a] = ang[0][a] * y3 + (ang[1][a] * y4 + ang[2][a] * y5);
-  if (k != kLinearZero && row_of_axis[k] >= 0) {
+  for (int a = From; a < S; ++a) w[a] = ang[0][a] * y3 + (ang[1][a] * y4 + ang[2][a] * y5);
+  if (k != kLinearZero && row_of_axis[k] >= From) {
     const int a = row_of_axis[k];
     w[a] = lin[a] * y[k] + w[a];
   }
@@ -182,14 +191,17 @@ void assembleKnownLowerBlockRows(const StepWorkspace& ws, int bi, const double* 
       for (int c = 0; c < other.size; ++c)
         for (int a = 0; a < S; ++a) wc[c * ldw + a] = 0;
   }
-  // The block against itself: its lower triangle.
+  // The block against itself: its lower triangle, a column at a time (C: its
+  // index, a template argument so that each column's loops unroll).
   for (int q = 0; q < np; ++q) {
-    for (int c = 0; c < S; ++c) {
+    const auto column = [&](auto c_constant) {
+      constexpr int c = decltype(c_constant)::value;
       double w[S];
-      knownPieceSums<S>(ang[q], lin[q], row_of_axis, blk.linear_axis[c], Y + (blk.row + c) * ldy + 6 * qi[q], w);
+      knownPieceSums<S, c>(ang[q], lin[q], row_of_axis, blk.linear_axis[c], Y + (blk.row + c) * ldy + 6 * qi[q], w);
       double* wc = W + (blk.row + c) * ldw + blk.row;
       for (int a = c; a < S; ++a) wc[a] = q == 0 ? w[a] + 0.0 : wc[a] + w[a];
-    }
+    };
+    forEachIndex(column, std::make_integer_sequence<int, S>{});
   }
   if (np == 0)
     for (int c = 0; c < S; ++c)
@@ -256,6 +268,16 @@ void assembleEqualityDelassus(StepWorkspace& ws, int r) {
         const double g3 = g[3 * ldg], g4 = g[4 * ldg], g5 = g[5 * ldg];
         for (int k = 0; k < 3; ++k) y[k] = 0.0;
         if (axis != kLinearZero) y[axis] = bm.lin[axis] * g[axis * ldg] + 0.0;
+        if (bm.ang_diagonal) {
+          // The sums less their +-0 products (finite G): a nonzero diagonal product
+          // is the sum; a zero one leaves a +-0 sum that the + 0.0 makes +0 both
+          // ways. (A non-finite G makes W's diagonal non-finite both ways, and
+          // factorRows hands the step to the general path, which forms Y again.)
+          y[3] = bm.ang[0][0] * g3 + 0.0;
+          y[4] = bm.ang[1][1] * g4 + 0.0;
+          y[5] = bm.ang[2][2] * g5 + 0.0;
+          continue;
+        }
         for (int k = 0; k < 3; ++k) y[3 + k] = ((bm.ang[k][0] * g3 + bm.ang[k][1] * g4) + bm.ang[k][2] * g5) + 0.0;
       }
     }

@@ -200,7 +200,7 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
   opt.max_iterations = 500;
   bool rows_current = false;  // ws holds the rows of the state as it is
   for (int pass = 0;; ++pass) {
-    ws.check_hint = s.ring_hint;  // same size: no allocation
+    copyRingHints(s.ring_hint, ws.check_hint);  // same size: no allocation
     // The first check before a pass on the velocity stage's operator needs the
     // rows' errors only (reuse: no contact sources); G is gathered where it
     // turns out to be needed after all (the next step's rows, or a pass on its
@@ -217,7 +217,7 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
       }
       // The last check leaves the ring hints as it found them: the next step's
       // search starts where this one did, and may take its points (exact).
-      s.ring_hint = ws.check_hint;
+      copyRingHints(ws.check_hint, s.ring_hint);
       return pass;
     }
     // Contacts within reach of the correction join the problem so that fixing

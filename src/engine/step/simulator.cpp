@@ -25,7 +25,7 @@ constexpr int kLateActivationRounds = 3;
 // rates of the step, the ring hints kept while the step may still be taken
 // again in halves.
 void beginStep(double h, bool may_halve, const State& s, StepWorkspace& ws, StepOutputs& out) {
-  if (may_halve) ws.halving_hint = s.ring_hint;  // same size: no allocation
+  if (may_halve) copyRingHints(s.ring_hint, ws.halving_hint);  // same size: no allocation
   clearStepOutputs(out);
   if (!rowsMatchPoses(s, ws)) clearConstraintRows(ws);
   for (size_t i = 0; i < s.commands.size(); ++i) ws.rates[i] = (s.commands[i] - s.prev_commands[i]) / h;

@@ -81,6 +81,8 @@ void appendBilateralRows(const Model& m, const State& s, const std::vector<doubl
 // The G rows a gather of the errors alone (jacobian false) left out, for the same
 // state, from the placements it kept: then ws holds what a full gather gives.
 void completeBilateralRows(const Model& m, const State& s, StepWorkspace& ws);
+// ws.ground_sides: the ground side of every joint on the ground, placed once.
+void placeGroundSides(const Model& m, StepWorkspace& ws);
 // Continuous joint coordinate at the state (State::joint_position as the reference).
 double jointPosition(const Model& m, const State& s, int joint);
 double jointVelocity(const Model& m, const State& s, int joint);

@@ -143,6 +143,7 @@ void sizeStepBuffers(const Model& m, StepWorkspace& ws) {
   ws.blocks.reserve(mr);
   ws.stale_joint_row.assign(m.joints.size(), -1);
   ws.placements.resize(m.joints.size());
+  placeGroundSides(m, ws);
   ws.stale_joints = 0;
   // Projection passes add up to kRingFacets facets per penetrating ring.
   ws.candidates.reserve(f.contact_slots + 2 * kRingFacets * m.clearance_joints.size());
@@ -196,8 +197,12 @@ void splitMassInverse(StepWorkspace& ws) {
         if (!kept && blk(r, c) != 0) ws.mass_inverse_by_body = false;
       }
     for (int k = 0; k < 3; ++k) bi.lin[k] = blk(k, k);
+    bi.ang_diagonal = true;
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) bi.ang[r][c] = blk(3 + r, 3 + c);
+      for (int c = 0; c < 3; ++c) {
+        bi.ang[r][c] = blk(3 + r, 3 + c);
+        if (r != c && bi.ang[r][c] != 0) bi.ang_diagonal = false;
+      }
   }
 }
 

@@ -7,6 +7,7 @@
 // The stage functions are declared in step_stages.hpp.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -147,6 +148,7 @@ class StepWorkspace {
   struct BodyMassInverse {
     double lin[3];
     double ang[3][3];
+    bool ang_diagonal = false;  // ang's off-diagonal entries exact zeros (principal axes)
   };
   std::vector<BodyMassInverse> body_mass_inverse;
   bool mass_inverse_by_body = false;
@@ -187,6 +189,9 @@ class StepWorkspace {
   std::vector<int> stale_joint_row;
   int stale_joints = 0;
   std::vector<PlacementMemo> placements;  // per joint: at the last gather of the errors alone
+  // Per joint whose body A is the ground: that side's placement (pa, axis_a, frame),
+  // the same at every state (placeGroundSides).
+  std::vector<PlacementMemo> ground_sides;
   std::vector<std::array<int, 2>> row_bodies;  // per row: the (at most) two bodies it touches
   std::vector<std::uint64_t> row_support;      // per row: bodies where its column of Y may be nonzero
   std::vector<ProblemBlock> problem;
@@ -225,6 +230,17 @@ struct StepOutputs {
 // Contact pairs or clearance joints: contact rows can join a problem (else
 // every problem of the model is its ideal joints' and prescribed motions' rows).
 inline bool hasContactSources(const StepWorkspace& ws) { return ws.facts.contact_slots > 0; }
+
+// to = from, ring hints of the same size (no allocation) copied in place: none to
+// copy without clearance joints, where the vector's out-of-line assignment was
+// most of a joints-only step's copies.
+inline void copyRingHints(const std::vector<double>& from, std::vector<double>& to) {
+  if (from.size() != to.size()) {
+    to = from;
+    return;
+  }
+  std::copy(from.begin(), from.end(), to.begin());
+}
 
 // The state of a body, or of ground (identity pose, at rest) for kGround.
 inline const BodyState& bodyOrGround(const State& s, int body) {
