@@ -74,7 +74,12 @@ void swapSymmetricLower(double* A, int ld, int n, int k, int p) {
 
 }  // namespace
 
-int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
+namespace {
+
+// pivotedLdlt (N > 0: n = N, the loops' bounds known).
+template <int N = 0>
+int pivotedLdltRows(double* A, int ld, int n_, double dropTol, int* perm, int* nonzero) {
+  const int n = N > 0 ? N : n_;
   for (int i = 0; i < n; ++i) perm[i] = i;
   auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
   // Threshold pivoting: the next row in order is the pivot while its diagonal is
@@ -134,6 +139,22 @@ int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzer
     }
   }
   return n;
+}
+
+}  // namespace
+
+int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
+  // Common sizes of joints' problems with the loops' bounds known, as
+  // ldltSolveInOrder, up to 12 rows (at 20 it cost the four-bar 133
+  // instructions a step, callgrind, nscd_mujoco_compare --single fourbar).
+  switch (n) {
+    case 5: return pivotedLdltRows<5>(A, ld, n, dropTol, perm, nonzero);
+    case 6: return pivotedLdltRows<6>(A, ld, n, dropTol, perm, nonzero);
+    case 10: return pivotedLdltRows<10>(A, ld, n, dropTol, perm, nonzero);
+    case 11: return pivotedLdltRows<11>(A, ld, n, dropTol, perm, nonzero);
+    case 12: return pivotedLdltRows<12>(A, ld, n, dropTol, perm, nonzero);
+    default: return pivotedLdltRows(A, ld, n, dropTol, perm, nonzero);
+  }
 }
 
 namespace {
@@ -248,20 +269,41 @@ void factorScaledRows(const double* W, int ldw, int m, const int* rows, int ne, 
   pivotedLdlt(L, ldl, ne, dropTol, perm, perm + ne);
 }
 
-void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
-                     const double* rhs, double* x, double* P) {
+namespace {
+
+// solveScaledRows (N > 0: ne = N, as ldltSolveRows).
+template <int N = 0>
+void solveScaledRowsOf(const double* L, int ldl, int ne_, const int* perm, const int* rows, const double* s, int m,
+                       const double* rhs, double* x, double* P) {
+  const int ne = N > 0 ? N : ne_;
   // ldltSolve's permutations folded into the scaling (x: its scratch, in the
   // pivoting order).
   for (int k = 0; k < ne; ++k) {
     const int a = perm[k];
     x[k] = -s[a] * rhs[rows[a]];
   }
-  ldltSolveInOrder(L, ldl, ne, x);
+  ldltSolveRows<N>(L, ldl, ne, x);
   if (ne < m)
     for (int i = 0; i < m; ++i) P[i] = 0;
   for (int k = 0; k < ne; ++k) {
     const int a = perm[k];
     P[rows[a]] = s[a] * x[k];
+  }
+}
+
+}  // namespace
+
+void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
+                     const double* rhs, double* x, double* P) {
+  switch (ne) {  // as ldltSolveInOrder
+    case 5: solveScaledRowsOf<5>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 6: solveScaledRowsOf<6>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 10: solveScaledRowsOf<10>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 11: solveScaledRowsOf<11>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 12: solveScaledRowsOf<12>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 15: solveScaledRowsOf<15>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    case 20: solveScaledRowsOf<20>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
+    default: solveScaledRowsOf(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
   }
 }
 

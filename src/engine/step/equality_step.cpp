@@ -60,7 +60,10 @@ bool lowerTriangleFinite(const double* W, Eigen::Index ldw, int r) {
 // factorScaledRows's copy L = S W S where no row is zero (rows 0 .. r-1), W's
 // finiteness checked on the way (as lowerTriangleFinite): the copy two entries at
 // a time, each entry's product the same. False (L not factored) if W is not finite.
-bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+// N > 0: r = N, the loops' bounds known (scaledCopyIfFinite).
+template <int N = 0>
+bool scaledCopyRows(const double* W, Eigen::Index ldw, int r_, const double* s, double* L, Eigen::Index ldl) {
+  const int r = N > 0 ? N : r_;
   typedef double Pair __attribute__((vector_size(16)));
   Pair acc = {0.0, 0.0};
   double single = 0;
@@ -83,6 +86,18 @@ bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* 
     }
   }
   return acc[0] + acc[1] + single == 0;
+}
+
+bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
+  switch (r) {  // the joints' common sizes (ldltSolveInOrder)
+    case 5: return scaledCopyRows<5>(W, ldw, r, s, L, ldl);
+    case 6: return scaledCopyRows<6>(W, ldw, r, s, L, ldl);
+    case 10: return scaledCopyRows<10>(W, ldw, r, s, L, ldl);
+    case 11: return scaledCopyRows<11>(W, ldw, r, s, L, ldl);
+    case 12: return scaledCopyRows<12>(W, ldw, r, s, L, ldl);
+    case 20: return scaledCopyRows<20>(W, ldw, r, s, L, ldl);
+    default: return scaledCopyRows(W, ldw, r, s, L, ldl);
+  }
 }
 
 // The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
@@ -115,7 +130,9 @@ bool factorRows(StepWorkspace& ws, int r) {
 
 // U = W P + b over the nonzero P_j, and the solver's error sqrt(|U|^2) / max(1, |b|)
 // summed block by block (errorFromU).
-double residualOf(StepWorkspace& ws, int r, double bnorm) {
+template <int N = 0>
+double residualRows(StepWorkspace& ws, int r_, double bnorm) {
+  const int r = N > 0 ? N : r_;
   double* U = ws.equality.U.data();
   const double* W = ws.W.data();
   const Eigen::Index ldw = ws.W.outerStride();
@@ -134,6 +151,19 @@ double residualOf(StepWorkspace& ws, int r, double bnorm) {
     sum += s;
   }
   return std::sqrt(sum) / std::max(1.0, bnorm);
+}
+
+// The same sums for every r; the joints' common sizes (dense_kernels.cpp's
+// ldltSolveInOrder) with the loops' bounds known.
+double residualOf(StepWorkspace& ws, int r, double bnorm) {
+  switch (r) {
+    case 5: return residualRows<5>(ws, r, bnorm);
+    case 6: return residualRows<6>(ws, r, bnorm);
+    case 10: return residualRows<10>(ws, r, bnorm);
+    case 11: return residualRows<11>(ws, r, bnorm);
+    case 12: return residualRows<12>(ws, r, bnorm);
+    default: return residualRows(ws, r, bnorm);
+  }
 }
 
 }  // namespace
