@@ -17,6 +17,7 @@
 #include "nscd_sim/scene_loader.hpp"
 #include "nscd_sim/simulator.hpp"
 #include "solver/dense_kernels.hpp"
+#include "solver/row_count_dispatch.hpp"
 #include "step/step_stages.hpp"
 #include "test_support.hpp"
 
@@ -150,6 +151,52 @@ TEST(LdltKernel, FactorsSolvesAndDropsDependentRows) {
   EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-16 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), 6);
   F = A;
   EXPECT_EQ(pivotedLdlt(F.data(), 6, 6, 1e-12 * A.diagonal().maxCoeff(), perm.data(), scratch.data()), 5);
+}
+
+// withRowCount: the kernel instance of a listed count, the generic one (0) for
+// any other, called once either way; a void kernel alike.
+TEST(RowCountDispatch, ListedCountsAndTheRest) {
+  for (int n = 0; n <= 24; ++n) {
+    const bool listed = n == 5 || n == 6 || n == 10 || n == 11 || n == 12 || n == 15 || n == 20;
+    EXPECT_EQ(withRowCount(JointRowCounts{}, n, [](auto count) { return decltype(count)::value; }), listed ? n : 0)
+        << n;
+    int calls = 0, seen = -1;
+    withRowCount(SmallJointRowCounts{}, n, [&](auto count) {
+      ++calls;
+      seen = decltype(count)::value;
+    });
+    EXPECT_EQ(calls, 1) << n;
+    EXPECT_EQ(seen, listed && n <= 12 ? n : 0) << n;
+  }
+}
+
+// Every size, listed or not, through the factor, the in-order solve and the
+// scaled solve: A x = rhs to 1e-12 relative (A = G G^T + I, well conditioned).
+TEST(LdltKernel, EverySizeFactorsAndSolves) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int n = 1; n <= 22; ++n) {
+    MatrixXd G(n, n + 2);
+    for (int i = 0; i < G.size(); ++i) G.data()[i] = u(rng);
+    const MatrixXd A = G * G.transpose() + MatrixXd::Identity(n, n);
+    VectorXd rhs(n);
+    for (int i = 0; i < n; ++i) rhs[i] = u(rng);
+    std::vector<int> perm(2 * n);
+    MatrixXd F = A;
+    ASSERT_EQ(pivotedLdlt(F.data(), n, n, 1e-13, perm.data(), perm.data() + n), n) << n;
+    VectorXd x = rhs, tmp(n);
+    ldltSolve(F.data(), n, n, perm.data(), x.data(), tmp.data());
+    EXPECT_LT((A * x - rhs).norm(), 1e-12 * rhs.norm()) << n;
+    // The scaled solve: every row kept, unit scales, P = -A^-1 rhs.
+    std::vector<int> rows(n);
+    for (int i = 0; i < n; ++i) rows[i] = i;
+    const VectorXd s = VectorXd::Ones(n);
+    MatrixXd L(n, n);
+    factorScaledRows(A.data(), n, n, rows.data(), n, s.data(), L.data(), n, 1e-13, perm.data());
+    VectorXd P(n), scratch(2 * n);
+    solveScaledRows(L.data(), n, n, perm.data(), rows.data(), s.data(), n, rhs.data(), scratch.data(), P.data());
+    EXPECT_LT((A * P + rhs).norm(), 1e-12 * rhs.norm()) << n;
+  }
 }
 
 // Threshold pivoting: a pivot in order is kept while its diagonal is at least a

@@ -1,6 +1,7 @@
 // Dense kernels (dense_kernels.hpp): pivoted Cholesky, pivoted LDL^T and LU
 // with partial pivoting, in place, no allocation.
 #include "dense_kernels.hpp"
+#include "row_count_dispatch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -144,9 +145,9 @@ int pivotedLdltRows(double* A, int ld, int n_, double dropTol, int* perm, int* n
 }  // namespace
 
 int pivotedLdlt(double* A, int ld, int n, double dropTol, int* perm, int* nonzero) {
-  // Common sizes of joints' problems with the loops' bounds known, as
-  // ldltSolveInOrder, up to 12 rows (at 20 it cost the four-bar 133
-  // instructions a step, callgrind, nscd_mujoco_compare --single fourbar).
+  // SmallJointRowCounts as a switch, not withRowCount: the kernel inlined under it
+  // costs a double pendulum's or four-bar's factor ~55 instructions less (callgrind,
+  // nscd_mujoco_compare --single double_pendulum; the same code otherwise).
   switch (n) {
     case 5: return pivotedLdltRows<5>(A, ld, n, dropTol, perm, nonzero);
     case 6: return pivotedLdltRows<6>(A, ld, n, dropTol, perm, nonzero);
@@ -182,19 +183,9 @@ void ldltSolveRows(const double* L, int ld, int n_, double* tmp) {
   }
 }
 
-// The same arithmetic for every n; common sizes of joints' problems (5 rows a
-// revolute or prismatic joint, 6 a fixed one) with the loops' bounds known.
+// The same arithmetic for every n, the joints' common sizes with the loops' bounds known.
 void ldltSolveInOrder(const double* L, int ld, int n, double* tmp) {
-  switch (n) {
-    case 5: ldltSolveRows<5>(L, ld, n, tmp); return;
-    case 6: ldltSolveRows<6>(L, ld, n, tmp); return;
-    case 10: ldltSolveRows<10>(L, ld, n, tmp); return;
-    case 11: ldltSolveRows<11>(L, ld, n, tmp); return;
-    case 12: ldltSolveRows<12>(L, ld, n, tmp); return;
-    case 15: ldltSolveRows<15>(L, ld, n, tmp); return;
-    case 20: ldltSolveRows<20>(L, ld, n, tmp); return;
-    default: ldltSolveRows(L, ld, n, tmp); return;
-  }
+  withRowCount(JointRowCounts{}, n, [&](auto rows) { ldltSolveRows<decltype(rows)::value>(L, ld, n, tmp); });
 }
 
 }  // namespace
@@ -295,16 +286,9 @@ void solveScaledRowsOf(const double* L, int ldl, int ne_, const int* perm, const
 
 void solveScaledRows(const double* L, int ldl, int ne, const int* perm, const int* rows, const double* s, int m,
                      const double* rhs, double* x, double* P) {
-  switch (ne) {  // as ldltSolveInOrder
-    case 5: solveScaledRowsOf<5>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 6: solveScaledRowsOf<6>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 10: solveScaledRowsOf<10>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 11: solveScaledRowsOf<11>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 12: solveScaledRowsOf<12>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 15: solveScaledRowsOf<15>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    case 20: solveScaledRowsOf<20>(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-    default: solveScaledRowsOf(L, ldl, ne, perm, rows, s, m, rhs, x, P); return;
-  }
+  withRowCount(JointRowCounts{}, ne, [&](auto count) {
+    solveScaledRowsOf<decltype(count)::value>(L, ldl, ne, perm, rows, s, m, rhs, x, P);
+  });
 }
 
 }  // namespace nscd

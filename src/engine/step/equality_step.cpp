@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "solver/dense_kernels.hpp"
+#include "solver/row_count_dispatch.hpp"
 #include "step_stages.hpp"
 
 namespace nscd {
@@ -89,15 +90,8 @@ bool scaledCopyRows(const double* W, Eigen::Index ldw, int r_, const double* s, 
 }
 
 bool scaledCopyIfFinite(const double* W, Eigen::Index ldw, int r, const double* s, double* L, Eigen::Index ldl) {
-  switch (r) {  // the joints' common sizes (ldltSolveInOrder)
-    case 5: return scaledCopyRows<5>(W, ldw, r, s, L, ldl);
-    case 6: return scaledCopyRows<6>(W, ldw, r, s, L, ldl);
-    case 10: return scaledCopyRows<10>(W, ldw, r, s, L, ldl);
-    case 11: return scaledCopyRows<11>(W, ldw, r, s, L, ldl);
-    case 12: return scaledCopyRows<12>(W, ldw, r, s, L, ldl);
-    case 20: return scaledCopyRows<20>(W, ldw, r, s, L, ldl);
-    default: return scaledCopyRows(W, ldw, r, s, L, ldl);
-  }
+  return withRowCount(JointRowCounts{}, r,
+                      [&](auto rows) { return scaledCopyRows<decltype(rows)::value>(W, ldw, r, s, L, ldl); });
 }
 
 // The rows not zero, scaled to a unit diagonal, factored. False if W is not finite.
@@ -153,17 +147,10 @@ double residualRows(StepWorkspace& ws, int r_, double bnorm) {
   return std::sqrt(sum) / std::max(1.0, bnorm);
 }
 
-// The same sums for every r; the joints' common sizes (dense_kernels.cpp's
-// ldltSolveInOrder) with the loops' bounds known.
+// The same sums for every r; the joints' common sizes with the loops' bounds known.
 double residualOf(StepWorkspace& ws, int r, double bnorm) {
-  switch (r) {
-    case 5: return residualRows<5>(ws, r, bnorm);
-    case 6: return residualRows<6>(ws, r, bnorm);
-    case 10: return residualRows<10>(ws, r, bnorm);
-    case 11: return residualRows<11>(ws, r, bnorm);
-    case 12: return residualRows<12>(ws, r, bnorm);
-    default: return residualRows(ws, r, bnorm);
-  }
+  return withRowCount(SmallJointRowCounts{}, r,
+                      [&](auto rows) { return residualRows<decltype(rows)::value>(ws, r, bnorm); });
 }
 
 }  // namespace
