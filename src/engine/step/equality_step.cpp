@@ -149,7 +149,7 @@ double residualRows(StepWorkspace& ws, int r_, double bnorm) {
 
 // The same sums for every r; the joints' common sizes with the loops' bounds known.
 double residualOf(StepWorkspace& ws, int r, double bnorm) {
-  return withRowCount(SmallJointRowCounts{}, r,
+  return withRowCount(JointRowCounts{}, r,
                       [&](auto rows) { return residualRows<decltype(rows)::value>(ws, r, bnorm); });
 }
 
