@@ -295,6 +295,9 @@ void assembleEqualityDelassus(StepWorkspace& ws, int r) {
     if (ws.blocks[bi].row >= r) continue;
     // Two switches, not one dispatch taking `known`: that one cost the four-bar
     // 43 instructions a step (callgrind, nscd_mujoco_compare --single fourbar).
+    // Switches, not withRowCount (row_count_dispatch.hpp): its chain of
+    // comparisons over 1-6 rows cost 10, 19 and 55 instructions a step more
+    // (pendulum, double pendulum, four-bar).
     if (known) {
       switch (ws.blocks[bi].size) {
         case 1: assembleKnownLowerBlockRows<1>(ws, bi, Y, ldy, W, ldw); break;
