@@ -161,7 +161,7 @@ TEST(RowCountDispatch, ListedCountsAndTheRest) {
     EXPECT_EQ(withRowCount(JointRowCounts{}, n, [](auto count) { return decltype(count)::value; }), listed ? n : 0)
         << n;
     int calls = 0, seen = -1;
-    withRowCount(SmallJointRowCounts{}, n, [&](auto count) {
+    withRowCount(RowCounts<5, 6, 10, 11, 12>{}, n, [&](auto count) {
       ++calls;
       seen = decltype(count)::value;
     });

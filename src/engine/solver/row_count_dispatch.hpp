@@ -15,11 +15,10 @@ struct RowCounts {};
 
 // The joints' common problem sizes: 5 rows a revolute or prismatic joint, 6 a
 // fixed one, and the sums of two to four of them in small mechanisms (a double
-// pendulum 10, a four-bar 20). A kernel whose code grows fast with the count
-// (the factor) takes the small ones alone: at 20 the four-bar's factor cost 133
+// pendulum 10, a four-bar 20). The factor (pivotedLdlt) dispatches by a switch
+// of its own over the small ones alone: at 20 its instance cost the four-bar 133
 // instructions a step more (callgrind, nscd_mujoco_compare --single fourbar).
 using JointRowCounts = RowCounts<5, 6, 10, 11, 12, 15, 20>;
-using SmallJointRowCounts = RowCounts<5, 6, 10, 11, 12>;
 
 template <int... N, typename F>
 inline auto withRowCount(RowCounts<N...>, int n, F&& f) -> decltype(f(std::integral_constant<int, 0>{})) {
