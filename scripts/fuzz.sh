@@ -19,8 +19,8 @@ dir=${NSCD_FUZZ_DIR:-$repo/.build/fuzz}
 jobs=${NSCD_JOBS:-$(nproc)}
 
 # TARGET | dictionary (- for none) | seed folders (in the repository) | per-input
-# time limit, s (scene_loader 90: a scene whose assembly fails takes its 200
-# projection passes, 34 s under the fuzz build on a loaded machine) | "master" if it
+# time limit, s (scene_loader 90: a scene whose assembly fails takes 20-40
+# projection passes, ~0.1 s each under the fuzz build, more on a loaded machine) | "master" if it
 # reads parameters from a ROS master (a private one is started)
 targets="
 scene_loader|scene|urdf test/scenes test/scenes/bad test/ros|90

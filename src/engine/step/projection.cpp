@@ -188,7 +188,7 @@ double measureViolation(const Model& m, const State& s, StepWorkspace& ws, doubl
 }
 
 int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
-                     double& violation, StepStats& st, bool reuse) {
+                     double& violation, StepStats& st, bool reuse, int stall_passes) {
   // Penetrating rings get tangent facets (CandidateMode::Projection) from the
   // first pass; backtracking only from the second, which is needed only where
   // the first pass was not enough.
@@ -199,6 +199,8 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
   opt.tolerance = 0.01 * tol;
   opt.max_iterations = 500;
   bool rows_current = false;  // ws holds the rows of the state as it is
+  double mark = 0;            // the violation the passes since mark_pass have to halve
+  int mark_pass = 0;
   for (int pass = 0;; ++pass) {
     copyRingHints(s.ring_hint, ws.check_hint);  // same size: no allocation
     // The first check before a pass on the velocity stage's operator needs the
@@ -210,7 +212,12 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
-    if (violation <= tol || pass >= max_passes) {
+    if (pass == 0 || violation <= 0.5 * mark) {
+      mark = violation;
+      mark_pass = pass;
+    }
+    const bool stalled = stall_passes > 0 && pass - mark_pass >= stall_passes;
+    if (violation <= tol || pass >= max_passes || stalled) {
       if (!jacobian) {  // the same state (no contacts: jacobian is false only without them)
         completeBilateralRows(m, s, ws);
         keyRowsOnPoses(s, ws);

@@ -190,8 +190,10 @@ void setStateVelocities(State& s, const Eigen::VectorXd& v);
 // violation is below tol or max_passes; returns the passes, writes the remaining
 // violation. Updates s (positions and ring hints). reuse: the first pass may
 // take the velocity stage's operator (velocityFactorReusable says when).
+// stall_passes > 0: also stops when that many passes in a row have not halved
+// the violation (the assembly: a pose no pass can close gives up early).
 int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes, double tol,
-                     double& violation, StepStats& st, bool reuse = false);
+                     double& violation, StepStats& st, bool reuse = false, int stall_passes = 0);
 // After the velocity stage, before anything else assembles or solves: whether
 // the first projection pass may take its Y = M^-1 G_k^T and the solver's LDLᵀ
 // factor of its W_k = G_k M^-1 G_k^T (q_k) in place of its own at q_{k+1}. A
