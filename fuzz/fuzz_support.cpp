@@ -1,4 +1,5 @@
 // The fuzz targets' shared helpers (fuzz_support.hpp).
+#include <algorithm>
 #include "fuzz_support.hpp"
 
 #include <unistd.h>
@@ -81,8 +82,18 @@ std::vector<std::string> lines(const uint8_t* data, size_t size) {
   return out;
 }
 
+constexpr int kFuzzIterations = 1000;
+constexpr int kFuzzHalvings = 4;
+
 bool boundedBudget(const nscd::Settings& s) {
-  return s.max_iterations <= 1000 && s.projection_max_iterations <= 1000 && s.max_step_halvings <= 4;
+  return s.max_iterations <= kFuzzIterations && s.projection_max_iterations <= kFuzzIterations &&
+         s.max_step_halvings <= kFuzzHalvings;
+}
+
+void boundBudget(nscd::Settings& s) {
+  s.max_iterations = std::min(s.max_iterations, kFuzzIterations);
+  s.projection_max_iterations = std::min(s.projection_max_iterations, kFuzzIterations);
+  s.max_step_halvings = std::min(s.max_step_halvings, kFuzzHalvings);
 }
 
 namespace {
@@ -120,7 +131,8 @@ void checkStepOutputs(const nscd::Simulator& sim, int k, std::vector<double>& fi
 }
 
 void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingCommand>& commands,
-                  const std::vector<std::string>& schedules, const std::vector<int>& resets) {
+                  const std::vector<std::string>& schedules, const std::vector<int>& resets,
+                  bool stop_when_unsolved) {
   std::vector<nscd::BoundSchedule> bound;
   try {
     bound = nscd::bindCommandSchedules(schedules, model);
@@ -154,6 +166,7 @@ void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingComman
     if (status == nscd::StepStatus::NonFinite) break;  // reported: the runner stops (status 3)
     checkStepOutputs(*sim, k, figures);
     csv.writeRow(*sim);
+    if (stop_when_unsolved && !st.converged) break;
   }
   summary.sim_time = sim->state().t;
   summary.energy_initial = energy_initial;

@@ -41,6 +41,9 @@ std::vector<std::string> lines(const uint8_t* data, size_t size);
 // and projection_max_iterations <= 1000, max_step_halvings <= 4): a user may set
 // 10^7 iterations and wait, a fuzz target may not.
 bool boundedBudget(const nscd::Settings& settings);
+// Lowers the budgets to those bounds (for a target that fuzzes something else, the
+// scene loader, and steps what it loads only to check it).
+void boundBudget(nscd::Settings& settings);
 
 // Steps a loaded model: builds the Simulator (an assembly failure is a refusal
 // with one line), then up to `steps` steps; after every step that is not reported
@@ -57,7 +60,10 @@ struct SteppingCommand {
   int actuator = 0;
   double value = 0;
 };
+// stop_when_unsolved: no step after one left unsolved (its checks done), whose
+// next steps would only repeat its work.
 void stepAndCheck(nscd::Model model, int steps, const std::vector<SteppingCommand>& commands = {},
-                  const std::vector<std::string>& schedules = {}, const std::vector<int>& resets = {});
+                  const std::vector<std::string>& schedules = {}, const std::vector<int>& resets = {},
+                  bool stop_when_unsolved = false);
 
 }  // namespace nscd_fuzz
