@@ -123,6 +123,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   nscd_node::eventTracker(*g_pnh, options, model);
   nscd_node::warnUnknownParams(*g_pnh);
-  nscd_fuzz::stepAndCheck(std::move(model), 3, {}, options.schedules);
+  // A config may raise the budgets (max_iterations up to 1e7): bounded, as in scene_loader.
+  nscd_fuzz::boundBudget(model.settings);
+  nscd_fuzz::stepAndCheck(std::move(model), 3, {}, options.schedules, {}, /*stop_when_unsolved=*/true);
   return 0;
 }
