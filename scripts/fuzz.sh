@@ -19,11 +19,12 @@ dir=${NSCD_FUZZ_DIR:-$repo/.build/fuzz}
 jobs=${NSCD_JOBS:-$(nproc)}
 
 # TARGET | dictionary (- for none) | seed folders (in the repository) | per-input
-# time limit, s (scene_loader 90: a scene whose assembly fails takes 20-40
-# projection passes, ~0.1 s each under the fuzz build, more on a loaded machine) | "master" if it
+# time limit, s (scene_loader 180: a fuzzed C-60 that assembles after 16 projection
+# passes of 100-150 rows took 51 s under the fuzz build on an idle machine, and
+# CI's machine has run inputs at half that speed) | "master" if it
 # reads parameters from a ROS master (a private one is started)
 targets="
-scene_loader|scene|urdf test/scenes test/scenes/bad test/ros|90
+scene_loader|scene|urdf test/scenes test/scenes/bad test/ros|180
 command_schedule|schedule|fuzz/seeds/command_schedule|10
 set_option|settings|fuzz/seeds/set_option|20
 settings_yaml|settings|fuzz/seeds/settings_yaml config|20
