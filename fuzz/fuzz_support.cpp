@@ -1,9 +1,9 @@
 // The fuzz targets' shared helpers (fuzz_support.hpp).
-#include <algorithm>
 #include "fuzz_support.hpp"
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
