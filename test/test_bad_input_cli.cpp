@@ -36,11 +36,13 @@ bool oneLine(const std::string& s) {
   return !t.empty() && t.find('\n') == std::string::npos;
 }
 
-void expectRefused(const std::string& args, const std::string& file) {
-  const nscd_test::RunResult r = runNscd(args);
+// The run's result, for checks of its own.
+nscd_test::RunResult expectRefused(const std::string& args, const std::string& file) {
+  nscd_test::RunResult r = runNscd(args);
   EXPECT_EQ(r.status, 2) << args << "\nstderr: " << r.err;
   EXPECT_TRUE(oneLine(r.err)) << args << "\nstderr: [" << r.err << "]";
   EXPECT_NE(r.err.find(file), std::string::npos) << args << "\nstderr: " << r.err;
+  return r;
 }
 
 }  // namespace
@@ -61,8 +63,7 @@ TEST(BadInputCli, EveryBadSceneExitsWithStatus2AndOneLine) {
 TEST(BadInputCli, SceneThatCannotBeAssembledIsRefusedEarly) {
   for (const char* name : {"fourbar_loop_open.urdf", "fourbar_crank_turned.urdf"}) {
     const std::string s = scenePath(std::string("test/bad_assembly/") + name);
-    expectRefused("'" + s + "' --duration 0.001 --quiet", s);
-    const nscd_test::RunResult r = runNscd("'" + s + "' --duration 0.001 --quiet");
+    const nscd_test::RunResult r = expectRefused("'" + s + "' --duration 0.001 --quiet", s);
     EXPECT_NE(r.err.find("assembly failed: constraint violation"), std::string::npos) << r.err;
     const std::size_t after = r.err.find(" after ");
     ASSERT_NE(after, std::string::npos) << r.err;

@@ -55,14 +55,14 @@ void assembleState(const Model& m, State& s, StepWorkspace& ws) {
   StepStats assembly;
   const int passes =
       projectPositions(m, s, ws, kAssemblyPasses, tol, violation, assembly, false, kAssemblyStallPasses);
-  if (!(violation <= tol))  // a NaN too
+  if (!(violation <= tol)) {  // a NaN too
+    std::string why = std::to_string(passes) + " projection passes";
+    if (passes >= kAssemblyStallPasses && passes < kAssemblyPasses)
+      why += " (the last " + std::to_string(kAssemblyStallPasses) + " did not halve it)";
     throw std::runtime_error(m.source_file + ": assembly failed: constraint violation " +
-                             std::to_string(violation) + " after " + std::to_string(passes) +
-                             " projection passes" +
-                             (passes >= kAssemblyStallPasses && passes < kAssemblyPasses ? " (the last " + std::to_string(kAssemblyStallPasses) +
-                                                             " did not halve it)"
-                                                       : std::string()) +
+                             std::to_string(violation) + " after " + why +
                              ": no pose near the given one satisfies the joints");
+  }
   assembleVelocities(m, s, ws);
   trackJointPositions(m, s);  // from the scene's initial positions (whole turns kept)
 }

@@ -212,7 +212,7 @@ int projectPositions(const Model& m, State& s, StepWorkspace& ws, int max_passes
     double bil = 0;
     const double pen = violationOfBlocks(ws, &bil);
     violation = std::max(pen, bil);
-    if (pass == 0 || violation <= 0.5 * mark) {
+    if (stall_passes > 0 && (pass == 0 || violation <= 0.5 * mark)) {
       mark = violation;
       mark_pass = pass;
     }
