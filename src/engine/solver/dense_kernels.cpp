@@ -7,6 +7,9 @@
 #include <cmath>
 #include <cstddef>
 #include <utility>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace nscd {
 
@@ -197,35 +200,80 @@ void ldltSolve(const double* L, int ld, int n, const int* perm, double* x, doubl
 }
 
 // In-place LU with partial pivoting (row k swapped with piv[k]). False if a
-// pivot is zero or not finite. Built for AVX too, taken where the machine has it
-// (target_clones; no FMA: the same products and sums, the same bits).
+// pivot is zero or not finite (the matrix is then left part-way). Built for AVX
+// too, taken where the machine has it (target_clones; no FMA: the same products
+// and sums, the same bits).
+// Two pivots a pass over the trailing columns: column k + 1 is brought up to date
+// by pivot k first (pivot k found, its rows swapped, its column scaled), then
+// every later column takes pivot k's update and pivot k + 1's in that order: each
+// entry sees the same operations in the same order as with one pivot a pass (a
+// row swap commutes with the updates of the rows it swaps), at half the loads and
+// stores of the trailing matrix. An update by a zero U entry is skipped, as
+// before (it could only turn a -0 into +0).
+namespace {
+
+// Pivot k: the first row from k on of the largest magnitude in column k (a NaN
+// below the diagonal is passed over; one on it fails), found as the largest
+// (max_pd keeps its second operand when the first is NaN: v > best ? v : best,
+// lane by lane, and a largest is the same in any order) and then the first row
+// that has it; rows k and piv[k] swapped across the matrix, column k scaled.
+// False: no usable pivot.
+__attribute__((always_inline)) inline bool takePivot(double* A, int ld, int n, int k, int* piv) {
+  double* ck = A + std::size_t(k) * ld;
+  double best = std::abs(ck[k]);
+  if (!(best >= 0)) return false;
+  int i = k + 1;
+#ifdef __SSE2__
+  const __m128d sign = _mm_set1_pd(-0.0);
+  __m128d best2 = _mm_set1_pd(best);
+  for (; i + 1 < n; i += 2) best2 = _mm_max_pd(_mm_andnot_pd(sign, _mm_loadu_pd(ck + i)), best2);
+  double lanes[2];
+  _mm_storeu_pd(lanes, best2);
+  best = lanes[1] > lanes[0] ? lanes[1] : lanes[0];
+#endif
+  for (; i < n; ++i)
+    if (std::abs(ck[i]) > best) best = std::abs(ck[i]);
+  if (!(best > 0) || !std::isfinite(best)) return false;
+  int p = k;
+  while (!(std::abs(ck[p]) == best)) ++p;
+  piv[k] = p;
+  if (p != k)
+    for (int j = 0; j < n; ++j) std::swap(A[k + std::size_t(j) * ld], A[p + std::size_t(j) * ld]);
+  const double inv = 1 / ck[k];
+  for (i = k + 1; i < n; ++i) ck[i] *= inv;
+  return true;
+}
+
+}  // namespace
+
 __attribute__((target_clones("avx", "default"))) bool luFactor(double* A, int ld, int n, int* piv) {
-  auto a = [&](int i, int j) -> double& { return A[i + std::size_t(j) * ld]; };
-  for (int k = 0; k < n; ++k) {
-    int p = k;
-    double best = std::abs(a(k, k));
-    for (int i = k + 1; i < n; ++i) {
-      const double v = std::abs(a(i, k));
-      if (v > best) {
-        best = v;
-        p = i;
+  auto col = [&](int j) { return A + std::size_t(j) * ld; };
+  int k = 0;
+  for (; k + 1 < n; k += 2) {
+    const int k1 = k + 1;
+    if (!takePivot(A, ld, n, k, piv)) return false;
+    const double* ck = col(k);
+    double* c1 = col(k1);
+    const double akk1 = c1[k];
+    if (akk1 != 0)
+      for (int i = k1; i < n; ++i) c1[i] -= ck[i] * akk1;
+    if (!takePivot(A, ld, n, k1, piv)) return false;
+    const double l1 = ck[k1];  // row k + 1's multiplier of pivot k, after its swap
+    for (int j = k1 + 1; j < n; ++j) {
+      double* cj = col(j);
+      const double akj = cj[k];
+      if (akj != 0) cj[k1] -= l1 * akj;
+      const double ak1j = cj[k1];
+      if (akj != 0 && ak1j != 0) {
+        for (int i = k1 + 1; i < n; ++i) cj[i] = (cj[i] - ck[i] * akj) - c1[i] * ak1j;
+      } else if (akj != 0) {
+        for (int i = k1 + 1; i < n; ++i) cj[i] -= ck[i] * akj;
+      } else if (ak1j != 0) {
+        for (int i = k1 + 1; i < n; ++i) cj[i] -= c1[i] * ak1j;
       }
     }
-    if (!(best > 0) || !std::isfinite(best)) return false;
-    piv[k] = p;
-    if (p != k)
-      for (int j = 0; j < n; ++j) std::swap(a(k, j), a(p, j));
-    const double inv = 1 / a(k, k);
-    double* ck = &a(0, k);
-    for (int i = k + 1; i < n; ++i) ck[i] *= inv;
-    for (int j = k + 1; j < n; ++j) {
-      const double akj = a(k, j);
-      if (akj == 0) continue;
-      double* cj = &a(0, j);
-      for (int i = k + 1; i < n; ++i) cj[i] -= ck[i] * akj;
-    }
   }
-  return true;
+  return k == n || takePivot(A, ld, n, k, piv);  // the last column alone, n odd
 }
 
 __attribute__((target_clones("avx", "default"))) void luSolve(const double* A, int ld, int n, const int* piv,
