@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -68,50 +69,87 @@ const State& settled() {
 
 }  // namespace
 
-// Every step unsolved, 2 halvings: each step of h is taken in 4 of h/4 (after a
-// whole attempt and two halves, all dropped). The bodies, the step's stats and
-// the handle's effort must be those of a run at h/4 with max_step_halvings 0:
-// the same stages on the same states, but for the command in between, which the
-// halving interpolates (the run at h/4 reads the schedule), so equal to round-off.
+// Every step unsolved, 2 halvings: the whole attempt and its first half are
+// dropped, the first half's quarters are kept (the second quarter taken once: the
+// first, unsolved at the smallest step, showed that halving does not settle this
+// step), and so is the second half, taken once. The bodies, the step's stats and
+// the handle's effort must be those of two steps of h/4 and one of h/2 with
+// max_step_halvings 0 from the same state: the same stages on the same states,
+// but for the commands in between, which the halving interpolates (the runs at
+// h/4 and h/2 read the schedule), so equal to round-off.
 TEST(StepHalving, HalvedStepIsTheStepsOfItsLength) {
   Simulator halved = c60(kDt, 2, 0);
   Simulator quarter = c60(kDt / 4, 0, 0);
+  Simulator half = c60(kDt / 2, 0, 0);
   halved.setState(settled());
-  quarter.setState(settled());
   const int handle = halved.model().findActuator("handle");
   ASSERT_GE(handle, 0);
   double effort_scale = 0;
   for (int k = kSettle + 1; k <= kSettle + kSteps; ++k) {
+    quarter.setState(halved.state());
     setHandle(halved, k * kDt);
     EXPECT_EQ(halved.step(), StepStatus::NotConverged) << "step " << k;
     const StepStats& s = halved.stats();
-    EXPECT_EQ(s.substeps, 4) << "step " << k;
+    EXPECT_EQ(s.substeps, 3) << "step " << k;
     EXPECT_EQ(s.halvings, 2) << "step " << k;
     EXPECT_FALSE(s.converged);
     double effort = 0;
     int iterations = 0;
-    for (int j = 1; j <= 4; ++j) {
+    for (int j = 1; j <= 2; ++j) {
       setHandle(quarter, ((k - 1) * 4 + j) * (kDt / 4));
       quarter.step();
       effort += quarter.actuatorEffort(handle) / 4;
       iterations += quarter.stats().iterations;
       EXPECT_EQ(quarter.stats().substeps, 1);
     }
-    // The attempts dropped (the whole step, its two halves) did work too.
+    half.setState(quarter.state());
+    setHandle(half, k * kDt);
+    half.step();
+    effort += half.actuatorEffort(handle) / 2;
+    iterations += half.stats().iterations;
+    EXPECT_EQ(half.stats().substeps, 1);
+    // The attempts dropped (the whole step, its first half) did work too.
     EXPECT_GT(s.iterations, iterations) << "step " << k;
     effort_scale = std::max(effort_scale, std::abs(effort));
     EXPECT_NEAR(halved.actuatorEffort(handle), effort, 1e-9 * std::abs(effort) + 1e-12) << "step " << k;
-    EXPECT_NEAR(halved.state().t, quarter.state().t, 1e-18) << "step " << k;
+    EXPECT_NEAR(halved.state().t, half.state().t, 1e-18) << "step " << k;
     EXPECT_DOUBLE_EQ(halved.command(handle), handleRamp().value(k * kDt));
     for (size_t b = 0; b < halved.state().bodies.size(); ++b) {
       const BodyState& x = halved.state().bodies[b];
-      const BodyState& y = quarter.state().bodies[b];
+      const BodyState& y = half.state().bodies[b];
       EXPECT_LT((x.x - y.x).norm(), 1e-13) << "step " << k << " body " << b;
       EXPECT_LT((x.v - y.v).norm(), 1e-8 * (1 + y.v.norm())) << "step " << k << " body " << b;
       EXPECT_LT((x.w - y.w).norm(), 1e-8 * (1 + y.w.norm())) << "step " << k << " body " << b;
     }
   }
   EXPECT_GT(effort_scale, 1e-6) << "the handle did no work: the effort check proved nothing";
+}
+
+// A step no solve settles, at the default 8 halvings: the attempts (each one's own
+// solve, seen by an observer as its halvings and substep) go down the first
+// halves to h/256, then take the rest of the step once each, from the smallest
+// substep up: 2 * 8 + 1 attempts, where halving every unsolved substep would take
+// 511. The kept substeps cover the step exactly.
+TEST(StepHalving, UnsolvableStepIsNotHalvedPastItsFirstFailure) {
+  constexpr int kLevels = 8;
+  Simulator sim = c60(kDt, kLevels, 0);
+  sim.setState(settled());
+  std::vector<std::pair<int, int>> attempts;
+  sim.setProblemObserver([&](const ProblemView& v) {
+    if (v.resolve == nullptr && v.round == 0) attempts.emplace_back(v.halvings, v.substep);
+  });
+  setHandle(sim, settled().t + kDt);
+  EXPECT_EQ(sim.step(), StepStatus::NotConverged);
+  std::vector<std::pair<int, int>> expected;
+  for (int level = 0; level <= kLevels; ++level) expected.emplace_back(level, 0);  // whole, first halves
+  for (int level = kLevels; level >= 1; --level) expected.emplace_back(level, 1);  // each second half once
+  EXPECT_EQ(attempts, expected);
+  const StepStats& st = sim.stats();
+  EXPECT_EQ(st.substeps, kLevels + 1);
+  EXPECT_EQ(st.halvings, kLevels);
+  EXPECT_FALSE(st.converged);
+  EXPECT_TRUE(stepTookRescue(st, StepRescue::LongerSolve));
+  EXPECT_NEAR(sim.state().t, settled().t + kDt, 1e-18);
 }
 
 // A step the solver settles is never halved, and halving off is the old stepping:
@@ -149,7 +187,7 @@ TEST(StepHalving, HalvedStepsAllocateNothing) {
   for (int i = 0; i < 2; ++i, ++k) {
     setHandle(sim, (k + 1) * kDt);
     sim.step();
-    EXPECT_EQ(sim.stats().substeps, 4);
+    EXPECT_EQ(sim.stats().substeps, 3);
   }
   EXPECT_EQ(nscd_test::allocationCount(), before);
 }
@@ -157,7 +195,7 @@ TEST(StepHalving, HalvedStepsAllocateNothing) {
 // StepStats::solves_by_stage counts every solve of the step, under the stage that
 // finished it: the attempts a halving drops and the rescues' solves included, as
 // a problem observer sees them. Every step here is unsolved (halved twice, then
-// the rescues at h/4), so every kind of solve occurs.
+// the rescues at h/4 and on the second half, taken once), so every kind of solve occurs.
 TEST(StepHalving, SolvesByStageCountEverySolveOfTheStep) {
   Simulator sim = c60(kDt, 2, 0);
   sim.setState(settled());
@@ -168,7 +206,7 @@ TEST(StepHalving, SolvesByStageCountEverySolveOfTheStep) {
     setHandle(sim, settled().t + k * kDt);
     sim.step();
     const StepStats& st = sim.stats();
-    EXPECT_EQ(st.substeps, 4) << k;
+    EXPECT_EQ(st.substeps, 3) << k;
     EXPECT_TRUE(stepTookRescue(st, StepRescue::Halving)) << k;
     EXPECT_TRUE(stepTookRescue(st, StepRescue::LongerSolve)) << k;
     int solves = 0;
@@ -176,8 +214,9 @@ TEST(StepHalving, SolvesByStageCountEverySolveOfTheStep) {
       EXPECT_EQ(st.solves_by_stage[s], seen[s]) << k << " " << solverStageName(static_cast<SolverStage>(s));
       solves += st.solves_by_stage[s];
     }
-    // At least the whole attempt, its two halves and four quarters, each with a longer solve.
-    EXPECT_GE(solves, 1 + 2 + 4 * 2) << k;
+    // At least the whole attempt, its first half, and the two quarters and the second
+    // half kept, each with a longer solve.
+    EXPECT_GE(solves, 1 + 1 + 3 * 2) << k;
     EXPECT_GT(st.solves_by_stage[static_cast<int>(SolverStage::Unsolved)], 0) << k;
   }
 }

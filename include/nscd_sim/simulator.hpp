@@ -292,8 +292,8 @@ class Simulator {
   StepStatus takeAdaptivePath(int substeps, double h, double fraction, StepOutputs& forces, bool& event,
                               long& iterations);
   StepStatus attemptAdaptiveStep(double h, double fraction, double& error, bool& event, long& iterations);
-  StepStatus advance(double h, int halvings, int substep);
-  StepStatus takeHalves(double h, int level, int index, StepStats& total);
+  StepStatus advance(double h, int halvings, int substep, bool may_halve);
+  StepStatus takeHalves(double h, int level, int index, int& deepest, StepStats& total);
 };
 
 }  // namespace nscd

@@ -190,34 +190,41 @@ StepStatus Simulator::step() {
 
 // One step of length h, taken again in halves while its problem stays unsolved.
 StepStatus Simulator::stepWhole(double h) {
-  const StepStatus whole = advance(h, 0, 0);
-  if (whole != StepStatus::NotConverged || model_.settings.max_step_halvings == 0) return whole;
+  int deepest = model_.settings.max_step_halvings;
+  const StepStatus whole = advance(h, 0, 0, deepest > 0);
+  if (whole != StepStatus::NotConverged || deepest == 0) return whole;
   // Unsolved: taken again from its start (advance left the state as it found it)
   // as two steps of h/2 (step_halving.cpp). The attempt's work is counted.
   StepStats total;
   startHalvedStep(out_->stats, total, *halving_out_);
-  const StepStatus halves = takeHalves(h, 1, 0, total);
+  const StepStatus halves = takeHalves(h, 1, 0, deepest, total);
   finishHalvedStep(total, *halving_out_, *out_);
   return halves;
 }
 
 // [t, t + h] as two steps of h/2 (level: h/2 = dt / 2^level); each taken again in
-// halves while unsolved, down to max_step_halvings. state_.commands holds the
-// command at the end of the interval, state_.prev_commands the one at its start:
-// the first half ends on their mean (a prescribed motion keeps its rate).
-StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& total) {
-  const int max_level = model_.settings.max_step_halvings;
+// halves while unsolved, down to level `deepest` (max_step_halvings). Once a
+// substep is left unsolved where it could not be halved, halving has not settled
+// the step: deepest drops to 0 and the rest of the interval is taken in the
+// substeps already begun, each once (with every rescue). A step the solver can
+// never settle then costs 2 L + 1 attempts, not the 2^(L+1) - 1 of the whole
+// tree (L = max_step_halvings). state_.commands holds the command at the end of
+// the interval, state_.prev_commands the one at its start: the first half ends
+// on their mean (a prescribed motion keeps its rate).
+StepStatus Simulator::takeHalves(double h, int level, int index, int& deepest, StepStats& total) {
   std::vector<double>& end_command = halving_commands_[level];
   end_command = state_.commands;
   for (int half = 0; half < 2; ++half) {
     for (size_t i = 0; i < end_command.size(); ++i)
       state_.commands[i] =
           half == 0 ? 0.5 * (state_.prev_commands[i] + end_command[i]) : end_command[i];
-    StepStatus s = advance(0.5 * h, level, 2 * index + half);
-    if (s == StepStatus::NotConverged && level < max_level) {
+    const bool may_halve = level < deepest;
+    StepStatus s = advance(0.5 * h, level, 2 * index + half, may_halve);
+    if (s == StepStatus::NotConverged && may_halve) {
       addDroppedAttempt(out_->stats, total);
-      s = takeHalves(0.5 * h, level + 1, 2 * index + half, total);
+      s = takeHalves(0.5 * h, level + 1, 2 * index + half, deepest, total);
     } else {
+      if (s == StepStatus::NotConverged) deepest = 0;
       addSubstep(out_->stats, level, *out_, total, *halving_out_);
     }
     if (s == StepStatus::NonFinite) return s;
@@ -225,15 +232,14 @@ StepStatus Simulator::takeHalves(double h, int level, int index, StepStats& tota
   return total.converged ? StepStatus::Ok : StepStatus::NotConverged;
 }
 
-// One step (or substep) of length h, as its stages. If it is left unsolved while
-// it can still be halved, it returns NotConverged with the State as it found
-// it: every stage before that point reads the State (const), but for the ring
-// hints of the contact search, which are put back.
-StepStatus Simulator::advance(double h, int halvings, int substep) {
+// One step (or a substep `halvings` halvings deep) of length h, as its stages. If
+// it is left unsolved while it may still be halved, it returns NotConverged with the
+// State as it found it: every stage before that point reads the State (const),
+// but for the ring hints of the contact search, which are put back.
+StepStatus Simulator::advance(double h, int halvings, int substep, bool may_halve) {
   const Model& m = model_;
   StepWorkspace& ws = *ws_;
   StepStats& st = out_->stats;
-  const bool may_halve = halvings < m.settings.max_step_halvings;
   beginStep(h, may_halve, state_, ws, *out_);
   // 1. forces, iteration matrix, free velocity
   computeFreeMotion(m, h, state_, ws, *out_);
