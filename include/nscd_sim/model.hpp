@@ -216,6 +216,8 @@ struct Settings {
   // A step whose friction-contact problem the solver leaves unsolved is taken
   // again as two steps of h/2, each of them halved again while unsolved, down to
   // h / 2^max_step_halvings, where the later rescues of rescue_policy.cpp apply.
+  // Once a substep there stays unsolved, the rest of the step is not halved
+  // again (its substeps already begun are taken once each, with those rescues).
   // 0: never.
   int max_step_halvings = 8;
   bool projection = true;           // combined projection after each step

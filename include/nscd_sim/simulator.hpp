@@ -80,7 +80,8 @@ struct StepStats {
   // The rescues the step took (StepRescue, in the policy's order):
   bool cold_retry = false;        // the answer was not finite: solved again from P = 0 by NSGS alone
   bool plastic_fallback = false;  // restitution would have added energy: solved with e = 0
-  // (halving: substeps > 1, below.) Left unsolved at the smallest step, the
+  // (halving: substeps > 1, below.) Left unsolved where the step may not be
+  // halved (its smallest substep, or one after that stayed unsolved), the
   // problem was solved again from its answer with 10 times the budget before any
   // of the fallbacks below, and that answer kept (converged, or closer): the
   // physics unchanged.
@@ -134,13 +135,14 @@ struct StepStats {
 
 // The rescues of a step whose friction-contact problem goes wrong, one ordered
 // policy (src/engine/step/rescue_policy.cpp): each is tried in this order, and
-// those after Halving only at the smallest step (Settings::max_step_halvings),
-// because they change the physics or cost ten solves.
+// those after Halving only where the step may not be halved (its smallest
+// substep, Settings::max_step_halvings, or one taken after such a substep stayed
+// unsolved), because they change the physics or cost ten solves.
 enum class StepRescue : std::uint8_t {
   ColdRetry,      // a non-finite answer: solved again from P = 0 by NSGS alone
   PlasticImpact,  // an impact whose restitution would add energy: solved with e = 0
   Halving,        // unsolved: the step taken again as two of h/2
-  LongerSolve,    // unsolved at the smallest step: solved again with 10 times the budget
+  LongerSolve,    // unsolved where it may not be halved: solved again with 10 times the budget
   PlasticRetry,   // unsolved with restitution: solved with e = 0, kept if that converges
   Frictionless,   // unsolved and far off or adding energy: taken frictionless and plastic
   EnergyCap,      // still far off: the impulses scaled so they add no kinetic energy
@@ -179,7 +181,7 @@ struct ProblemView {
   // Null for the step's own solve; for a rescue's solve of the step's problem
   // again (rescue_policy.cpp): "cold_retry" (a non-finite answer, solved again
   // from P = 0 by NSGS), "plastic" (an impact that would add energy), "longer"
-  // (left unsolved at the smallest step, solved again with 10 times the budget),
+  // (left unsolved where it may not be halved, solved again with 10 times the budget),
   // "plastic_retry" (left unsolved, solved with e = 0) or "frictionless".
   const char* resolve = nullptr;
 };
@@ -207,7 +209,8 @@ class Simulator {
 
   // One time step of length model().settings.dt; if its friction-contact problem
   // stays unsolved, taken again in halves (Settings::max_step_halvings,
-  // StepStats::substeps). NotConverged: unsolved even at the smallest substep.
+  // StepStats::substeps; once a smallest substep stays unsolved, the rest of the
+  // step is not halved again). NotConverged: a substep kept unsolved.
   // Adaptive step control (Settings::step_control): one step kept, of the length
   // planStep planned (or of the controller's proposal if none was planned), or
   // shorter after rejections; the commands set before it are those at the end of

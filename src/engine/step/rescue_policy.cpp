@@ -13,8 +13,9 @@
 //   (Simulator::step, step_halving.cpp): within one step a light link can cross
 //   a tight bearing, so that contacts on both sides of it enter one problem with
 //   Newton's law on each, which may have no solution, while in h/2 or h/4 the
-//   link meets one side at a time. The rescues below wait for the smallest step:
-//   they cost ten solves or change the physics.
+//   link meets one side at a time. The rescues below wait for a step that may
+//   not be halved (the smallest, or one after a smallest left unsolved: see
+//   Simulator::takeHalves): they cost ten solves or change the physics.
 // - LongerSolve: a problem left unsolved is solved again from its answer with 10
 //   times the budget (jammed sets with impulses 100 times the usual can need
 //   1 000 to 1 500 Newton iterations); the better of the two answers stays.

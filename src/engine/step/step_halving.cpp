@@ -2,7 +2,9 @@
 // unsolved is taken again from its start as two steps of h/2, each halved again
 // while unsolved (Simulator::step, Settings::max_step_halvings): the Halving row
 // of the rescue policy (rescue_policy.cpp), whose later rescues wait for the
-// smallest step.
+// smallest step. Once a substep of that smallest length stays unsolved, the rest
+// of the step is taken in the substeps already begun without halving them
+// (Simulator::takeHalves): 2 L + 1 attempts at most, not 2^(L+1) - 1.
 // Why: within one step a light link can cross a tight bearing, so that contacts
 // on both sides of it enter one problem with Newton's law on each; such a problem
 // may have no solution at all (stress case 939: not strictly feasible, and no
