@@ -220,8 +220,7 @@ namespace {
 // False: no usable pivot.
 __attribute__((always_inline)) inline bool takePivot(double* A, int ld, int n, int k, int* piv) {
   double* ck = A + std::size_t(k) * ld;
-  double best = std::abs(ck[k]);
-  if (!(best >= 0)) return false;
+  double best = std::abs(ck[k]);  // a NaN here stays the largest, refused below
   int i = k + 1;
 #ifdef __SSE2__
   const __m128d sign = _mm_set1_pd(-0.0);
