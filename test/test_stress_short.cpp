@@ -182,7 +182,7 @@ TEST(StressShort, UnsolvedStepsAreTakenInHalves) {
 // The attempt a halved step drops leaves the state as it found it (advance() puts
 // back the ring hints its contact search moved): the step taken in halves is then
 // bit for bit the two steps of h/2 that a run at h/2 takes from the same state
-// (one fewer halving allowed, so both reach the same smallest substep). Case 939's
+// (the run at h/2 may halve 3 times, down to h/16: as deep as this step goes). Case 939's
 // first halved step.
 TEST(StressShort, HalvedStepStartsFromTheStepsState) {
   const StressCase c = makeStressCase(kSeed, 939);

@@ -280,7 +280,7 @@ def stress_section(out, docs):
         s.append("| steps taken again in halves (most substeps in one step) | %d (%d) |\n"
                  % (summ["halved_steps"], summ["substeps_max"]))
     if "longer_solve_steps" in summ:
-        s.append("| steps whose smallest step solved once more with 10 times the budget (answer kept) | %d |\n"
+        s.append("| steps whose problem, unsolved where the step could not be halved, was solved once more with 10 times the budget (answer kept) | %d |\n"
                  % summ["longer_solve_steps"])
     if "plastic_retry_steps" in summ:
         s.append("| plastic retries (restitution unsolved, solved with e = 0) / frictionless fallbacks | %d / %d |\n"

@@ -4,7 +4,8 @@
 // of the rescue policy (rescue_policy.cpp), whose later rescues wait for the
 // smallest step. Once a substep of that smallest length stays unsolved, the rest
 // of the step is taken in the substeps already begun without halving them
-// (Simulator::takeHalves): 2 L + 1 attempts at most, not 2^(L+1) - 1.
+// (Simulator::takeHalves): a step no solve settles takes 2 L + 1 attempts, not
+// 2^(L+1) - 1 (a step that halving does settle may still take up to the latter).
 // Why: within one step a light link can cross a tight bearing, so that contacts
 // on both sides of it enter one problem with Newton's law on each; such a problem
 // may have no solution at all (stress case 939: not strictly feasible, and no
