@@ -33,12 +33,13 @@ std::string text(double x) {
 // The C-60 with its handle driven from t = 0 (a prescribed motion against the
 // mechanism's springs and contacts). A tolerance no solve can reach leaves every
 // problem unsolved, so every step is halved down to max_step_halvings.
-Simulator c60(double dt, int halvings, double tolerance) {
-  return Simulator(loadScene(nscd_test::scenePath("urdf/c60.urdf"),
-                             {{"dt", text(dt), "test"},
-                              {"max_step_halvings", std::to_string(halvings), "test"},
-                              {"tolerance", text(tolerance == 0 ? 1e-300 : tolerance), "test"},
-                              {"max_iterations", "40", "test"}}));
+Simulator c60(double dt, int halvings, double tolerance, bool adaptive = false) {
+  std::vector<SettingOverride> o = {{"dt", text(dt), "test"},
+                                    {"max_step_halvings", std::to_string(halvings), "test"},
+                                    {"tolerance", text(tolerance == 0 ? 1e-300 : tolerance), "test"},
+                                    {"max_iterations", "40", "test"}};
+  if (adaptive) o.push_back({"step_control", "adaptive", "test"});
+  return Simulator(loadScene(nscd_test::scenePath("urdf/c60.urdf"), o));
 }
 
 // The handle at rest until the mechanism has settled (its contacts loaded by the
@@ -150,6 +151,29 @@ TEST(StepHalving, UnsolvableStepIsNotHalvedPastItsFirstFailure) {
   EXPECT_FALSE(st.converged);
   EXPECT_TRUE(stepTookRescue(st, StepRescue::LongerSolve));
   EXPECT_NEAR(sim.state().t, settled().t + kDt, 1e-18);
+}
+
+// Adaptive steps: a step kept unsolved although its substeps were halved is not
+// taken again shorter (its paths differ as unsolved answers do; a shorter step is
+// no more solvable), and the next one keeps its length. The C-60 settling from
+// its ON pose with a tolerance no solve reaches: its unsolved steps' paths differ
+// by more than the tolerance (they were rejected, down to ~5e-8 s, before), and none
+// is rejected; every step is dt.
+TEST(StepHalving, AdaptiveStepKeepsAnUnsolvedStepAtItsLength) {
+  Simulator sim = c60(kDt, 2, 0, true);
+  int above = 0;
+  for (int k = 1; k <= 2 * kSteps; ++k) {
+    const StepStatus status = sim.step();
+    const StepStats& st = sim.stats();
+    EXPECT_EQ(st.rejected, 0) << k;
+    EXPECT_EQ(st.h, kDt) << k;
+    if (status == StepStatus::NotConverged && st.error > 1) {
+      ++above;
+      EXPECT_EQ(sim.state().step_next, kDt) << k;
+    }
+  }
+  EXPECT_GE(above, 2) << "too few unsolved steps above the tolerance for the check to mean anything";
+  EXPECT_NEAR(sim.state().t, 2 * kSteps * kDt, 1e-15);
 }
 
 // A step the solver settles is never halved, and halving off is the old stepping:

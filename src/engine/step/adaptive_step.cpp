@@ -348,9 +348,15 @@ StepStatus Simulator::stepAdaptive() {
   double h = h_plan, error = 0;
   bool event = false;
   StepStatus status = StepStatus::Ok;
+  bool unsolved = false;  // kept although its error is above 1 (below)
   for (;;) {
     status = attemptAdaptiveStep(h, h == h_plan ? 1.0 : h / h_plan, error, event, iterations);
     if (error <= 1 || h <= lim.h_min) break;
+    // A substep kept unsolved although it was halved (Simulator::takeHalves): the
+    // paths' difference is then that of unsolved answers, which a shorter step does
+    // not make solved. Kept, as a fixed step would be.
+    unsolved = status == StepStatus::NotConverged && set.max_step_halvings > 0;
+    if (unsolved) break;
     ++rejected;
     h = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order, kRetryAtMost)
                   : retryStepLength(lim, h, error);
@@ -376,12 +382,13 @@ StepStatus Simulator::stepAdaptive() {
   double next = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order,
                                                     rejected > 0 ? 1.0 : INFINITY)
                           : nextStepLength(lim, h, error, a.start.step_error, rejected > 0);
+  if (unsolved) next = h;  // its estimate says nothing of the step's length
   // A step cut short to end at a given time is no reason for the next to be short.
   if (rejected == 0 && h < proposal) next = std::max(next, proposal);
   state_.step_next = next;
   // The warm starts (of the last path's substeps, a.kept_substep) for the next step's fine substep.
   scaleWarmStarts((next / kFineSubsteps) / a.kept_substep, state_);
-  state_.step_error = std::min(error, 1e3);
+  state_.step_error = unsolved ? 1.0 : std::min(error, 1e3);
   return status;
 }
 
