@@ -148,7 +148,8 @@ def trip_figures(d):
 def bench_figures(d):
     b = c60_plot.bench(d, None)
     i_eq = int(np.argmin(np.abs(d['t'] - (0.030 - 1e-3))))  # end of the hold at 2 mm
-    fig = {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N')}
+    fig = {k: b[k] for k in ('equilibrium_force_N', 'hysteresis_mean_N', 'hysteresis_max_N', 'hold_steps_averaged',
+                             'hold_zero_force_steps')}
     # The bench measures a latched breaker: if the latch is open at 2 mm (every C4 pair
     # > 20 um: it did not hold through the settling), its forces are not bench figures.
     fig['latch_open_at_2mm'] = bool(c60_plot.group_gap(d, 'C4')[i_eq] > c60_trip_figures.RELEASE_GAP)
@@ -534,6 +535,14 @@ def report(a):
         png = os.path.join(os.path.dirname(a.doc), 'images', 'c60_clearance_study.png')
         box_plots(seeds, nominal, png)
         L += ['', '![box plots of the 20 random-start runs](images/c60_clearance_study.png)', '']
+    chatter = [(c[0], res[c[0]]['bench']) for c in CASES
+               if c[0] in res and (res[c[0]]['bench'].get('hold_zero_force_steps') or 0) > 0]
+    L += ['## Chatter on the bench', '',
+          'Runs whose table force falls to 0 in some of the steps the bench force averages (the second',
+          'half of the hold at 2 mm), between loaded ones: the moving contact opens and closes every',
+          'other step, a step-size artefact that lowers the bench force (docs/c60.md): %s.' % (
+              '; '.join('%s, %d of %d steps' % (n, b['hold_zero_force_steps'], b['hold_steps_averaged'])
+                        for n, b in chatter) if chatter else 'none'), '']
     L += ['## Runs', '',
           'Per run: steps, solver iterations mean / max, unconverged steps, frictionless fallbacks,',
           'largest penetration, energy (kinetic + springs) at the start and the end. The trip\'s',
