@@ -1,11 +1,21 @@
 // nscd problem -> local FCLib problem (condense_problem.hpp).
 #include "condense_problem.hpp"
 
+#include <string>
+
 #include <Eigen/Dense>
 
 namespace nscd_fclib {
 
-bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out) {
+bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out, std::string& why) {
+  for (const nscd::ProblemBlock& bl : p.blocks) {
+    const int want = bl.kind == nscd::BlockKind::Frictional ? 3 : bl.kind == nscd::BlockKind::Frictionless ? 1 : 0;
+    if (want > 0 && bl.size != want) {
+      why = "a " + std::string(want == 3 ? "frictional" : "frictionless") + " block of " + std::to_string(bl.size) +
+            " rows at row " + std::to_string(bl.row) + " (" + std::to_string(want) + " expected)";
+      return false;
+    }
+  }
   std::vector<int> eq;  // bilateral rows
   for (const nscd::ProblemBlock& bl : p.blocks) {
     if (bl.kind == nscd::BlockKind::Bilateral)
@@ -22,7 +32,10 @@ bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out) {
   }
   const int n = static_cast<int>(rows.size()), ne = static_cast<int>(eq.size());
   out.bilateral_rows = ne;
-  if (n == 0) return false;
+  if (n == 0) {
+    why = "no contact (bilateral rows only): not an FCLib problem";
+    return false;
+  }
   Eigen::MatrixXd Wcc = Eigen::MatrixXd::Zero(n, n), Wce = Eigen::MatrixXd::Zero(n, ne),
                   Wee(ne, ne);
   Eigen::VectorXd qc = Eigen::VectorXd::Zero(n), qe(ne);

@@ -5,6 +5,7 @@
 // so the fuzz targets reach it without HDF5.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,7 +21,10 @@ struct CondensedProblem {
   int bilateral_rows = 0;  // condensed out
 };
 
-// False if the problem has no contact (bilateral rows only): not an FCLib problem.
-bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out);
+// False, with the reason in `why`, if the problem has no contact (bilateral rows
+// only: not an FCLib problem) or a block whose size is not its kind's (a frictional
+// contact 3 rows, a frictionless one 1: what the solver takes; readProblemFile
+// reads any size within the rows).
+bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out, std::string& why);
 
 }  // namespace nscd_fclib

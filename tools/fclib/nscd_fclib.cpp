@@ -237,8 +237,9 @@ int fromNscd(const char* in, const char* out, const std::string& title, const st
     return 1;
   }
   nscd_fclib::CondensedProblem c;
-  if (!nscd_fclib::condenseProblem(p, c)) {
-    std::fprintf(stderr, "%s: no contact (bilateral rows only): not an FCLib problem\n", in);
+  std::string why;
+  if (!nscd_fclib::condenseProblem(p, c, why)) {
+    std::fprintf(stderr, "%s: %s\n", in, why.c_str());
     return 1;
   }
   std::printf("%s: %d contacts, %d bilateral rows condensed\n", in, static_cast<int>(c.mu.size()),
