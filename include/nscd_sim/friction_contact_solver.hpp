@@ -50,6 +50,12 @@ struct ProblemBlock {
   double mu = 0;  // Frictional only
 };
 
+// The rows a contact block of this kind has (3: normal and two tangents; 1); 0 for a
+// bilateral block, whose size is its own. The solver answers `failed` to any other.
+constexpr int rowsOfKind(BlockKind kind) {
+  return kind == BlockKind::Frictional ? 3 : kind == BlockKind::Frictionless ? 1 : 0;
+}
+
 // Which schedule runs (solver_schedule.cpp). Auto: NSGS, switching to the
 // global Newton after one sweep on small problems or when the measured NSGS rate
 // predicts many more sweeps, then the stages for what that leaves unsolved;

@@ -9,7 +9,7 @@ namespace nscd_fclib {
 
 bool condenseProblem(const nscd::ProblemFile& p, CondensedProblem& out, std::string& why) {
   for (const nscd::ProblemBlock& bl : p.blocks) {
-    const int want = bl.kind == nscd::BlockKind::Frictional ? 3 : bl.kind == nscd::BlockKind::Frictionless ? 1 : 0;
+    const int want = nscd::rowsOfKind(bl.kind);
     if (want > 0 && bl.size != want) {
       why = "a " + std::string(want == 3 ? "frictional" : "frictionless") + " block of " + std::to_string(bl.size) +
             " rows at row " + std::to_string(bl.row) + " (" + std::to_string(want) + " expected)";

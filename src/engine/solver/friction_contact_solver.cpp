@@ -71,7 +71,7 @@ bool allBilateral(const std::vector<ProblemBlock>& blocks) {
 
 bool validBlocks(const std::vector<ProblemBlock>& blocks, Eigen::Index rows) {
   for (const ProblemBlock& bl : blocks) {
-    const int want = bl.kind == BlockKind::Frictional ? 3 : bl.kind == BlockKind::Frictionless ? 1 : -1;
+    const int want = rowsOfKind(bl.kind);
     if (bl.row < 0 || bl.size < 1 || Eigen::Index(bl.row) + bl.size > rows) return false;
     if (want > 0 ? bl.size != want : bl.size > kMaxBilateral) return false;
   }
