@@ -216,7 +216,12 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
 // paths at once. Else the fine path first (left in state_): if it had a nonsmooth
 // event, its answer is the step's (first order) and the coarse path is not taken:
 // the error is embeddedEventError's, from the fine path's own substeps (4
-// substep solves where the paths take 6). Otherwise the coarse path (kept in
+// substep solves where the paths take 6). So too where the step is capped at dt
+// well within the tolerance (cappedWellWithinTolerance): the coarse path would
+// only estimate an error that cannot lengthen the step, and the fine path's own
+// estimate, counted as a velocity as the paths' difference is, guards it (its
+// answer not extrapolated: the doubling's estimate was of the fine path, and well
+// within the tolerance). Otherwise the coarse path (kept in
 // a.coarse) and the paths' scaled difference. Where a contact changed mode on the
 // coarse path alone, velocities jump: the paths' velocities differ by O(1)
 // whenever one has met the event and the other not yet, however short the step.
@@ -257,10 +262,11 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
     bool coarse_event = false, fine_event = false;
     state_ = a.start;
     fine = takeAdaptivePath(kFineSubsteps, h, fraction, a.fine_out, fine_event, iterations);
-    a.coarse_taken = !fine_event || fine == StepStatus::NonFinite;
+    const bool capped = cappedWellWithinTolerance(stepLengths(set), h, a.start.step_error);
+    a.coarse_taken = (!fine_event && !capped) || fine == StepStatus::NonFinite;
     if (!a.coarse_taken) {
-      event = true;
-      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length);
+      event = fine_event;
+      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length, !event);
       return;
     }
     // The fine path's State and outputs set aside (swapped: no allocation) while
@@ -369,15 +375,16 @@ StepStatus Simulator::stepAdaptive() {
   st.error = error;
   if (status == StepStatus::NonFinite) return status;
   // Nothing nonsmooth on either path, every contact in the mode it ended the last
-  // step in: the fine path's answer extrapolated.
-  const double f = event ? 0.0 : kRichardsonFactor;
-  if (!event) {
+  // step in: the fine path's answer extrapolated (where the coarse one was taken).
+  const bool extrapolate = !event && a.coarse_taken;
+  const double f = extrapolate ? kRichardsonFactor : 0.0;
+  if (extrapolate) {
     if (a.order == 2) richardsonExtrapolate(a.coarse, f, state_);  // else the tableau's answer is in state_
     if (a.tableau) projectSmoothStep(m, a.start, *ws_, state_, st);
     trackJointPositions(m, state_);
   }
   keepForces(a.fine_out, a.coarse_taken ? a.coarse_out : a.fine_out, f, *out_);
-  st.extrapolated = !event;
+  st.extrapolated = extrapolate;
   state_.t = h == h_plan && !std::isnan(end_plan) ? end_plan : t0 + h;
   double next = a.tableau ? extrapolationStepLength(lim, h, a.errors, a.order, set.max_order,
                                                     rejected > 0 ? 1.0 : INFINITY)

@@ -116,8 +116,11 @@ bool stepHadEvent(const StepStats& st);
 // leave an O(s) part of those flipping sign every substep (kCoarseSubsteps,
 // adaptive_step.cpp), which the positions never move with; counted, it shrank
 // the slider-crank's steps 3-fold. Infinite if a state is not finite.
+// as_velocity: the velocity error itself over atol + rtol |u| (weight 1 where the
+// above has h), as the paths' difference of a step without an event counts it:
+// the guard of a step that takes the fine path alone (cappedWellWithinTolerance).
 double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, int n, double h, double atol,
-                          double rtol, const std::vector<double>& rotation_length);
+                          double rtol, const std::vector<double>& rotation_length, bool as_velocity = false);
 // The Richardson combination y_fine + (y_fine - y_coarse): the fine path's error
 // of order h h/4 cancelled against the coarse one's h h/2, for a scheme of order
 // 1. The theta-scheme is first order on mechanisms (measured: a four-bar's error
@@ -152,6 +155,11 @@ StepLengths stepLengths(const Settings& set);
 // first (then it may not grow).
 double nextStepLength(const StepLengths& lim, double h, double error, double previous_error,
                       bool after_rejection);
+// True if a step of length h is at the largest (dt) and the step kept before it
+// had an error (> 0) at which the controller would have asked for at least twice
+// that length: the cap, not the estimate, sets the length. Such a step takes the
+// fine path alone (Simulator::attemptAdaptiveStep).
+bool cappedWellWithinTolerance(const StepLengths& lim, double h, double previous_error);
 // The length to try again after a step of length h rejected with error `error` (> 1).
 double retryStepLength(const StepLengths& lim, double h, double error);
 // Smooth steps with an extrapolation tableau (order and step control of

@@ -123,7 +123,8 @@ bool stepHadEvent(const StepStats& st) {
 }
 
 double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, int n, double h, double atol,
-                          double rtol, const std::vector<double>& rotation_length) {
+                          double rtol, const std::vector<double>& rotation_length, bool as_velocity) {
+  const double weight = as_velocity ? 1.0 : h;
   double worst = 0;
   const double s = h / n;
   for (size_t b = 0; b < substeps[0].size(); ++b) {
@@ -157,7 +158,7 @@ double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, i
     // The path's n substeps err by n (s^2 / 2) a' in velocity; its n - 2 second
     // differences sum to (n - 2) s^2 a'.
     const double factor = n / (2.0 * (n - 2));
-    const double e = h * factor * std::max(sum_lin.maxCoeff(), sum_ang.maxCoeff()) / (atol + rtol * h * speed);
+    const double e = weight * factor * std::max(sum_lin.maxCoeff(), sum_ang.maxCoeff()) / (atol + rtol * weight * speed);
     // A NaN fails every comparison: it makes the estimate infinite.
     worst = e <= worst ? worst : (std::isnan(e) ? INFINITY : e);
   }

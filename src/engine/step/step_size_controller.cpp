@@ -40,6 +40,13 @@ double nextStepLength(const StepLengths& lim, double h, double error, double pre
   return std::clamp(h * factor, lim.h_min, lim.h_max);
 }
 
+bool cappedWellWithinTolerance(const StepLengths& lim, double h, double previous_error) {
+  // The I controller's length at that error (nextStepLength without memory).
+  const double factor = kSafety * std::pow(std::max(previous_error, kErrorFloor), -1 / kOrder);
+  // h within planStep's rounding of dt: a step cut to end on a time may fall short of it by that.
+  return previous_error > 0 && h >= lim.h_max * (1 - 1e-9) && factor >= 2;
+}
+
 double retryStepLength(const StepLengths& lim, double h, double error) {
   const double factor = std::isfinite(error) ? kSafety * std::pow(error, -1 / kOrder) : kMaxShrink;
   return std::max(lim.h_min, h * std::clamp(factor, kMaxShrink, kSafety));
