@@ -216,12 +216,12 @@ StepStatus Simulator::takeAdaptivePath(int n, double h, double fraction, StepOut
 // paths at once. Else the fine path first (left in state_): if it had a nonsmooth
 // event, its answer is the step's (first order) and the coarse path is not taken:
 // the error is embeddedEventError's, from the fine path's own substeps (4
-// substep solves where the paths take 6). So too where the step is capped at dt
-// well within the tolerance (cappedWellWithinTolerance): the coarse path would
-// only estimate an error that cannot lengthen the step, and the fine path's own
-// estimate, counted as a velocity as the paths' difference is, guards it (its
-// answer not extrapolated: the doubling's estimate was of the fine path, and well
-// within the tolerance). Otherwise the coarse path (kept in
+// substep solves where the paths take 6). So too where the fine path had no
+// event, the step is at dt and the fine path's own estimate (counted as a
+// velocity, as the paths' difference is) is far within the tolerance
+// (cappedWellWithinTolerance): the coarse path would only confirm an error that
+// cannot lengthen the step, and buy the extrapolation of an answer already well
+// within the tolerance; the fine path's answer is kept. Otherwise the coarse path (kept in
 // a.coarse) and the paths' scaled difference. Where a contact changed mode on the
 // coarse path alone, velocities jump: the paths' velocities differ by O(1)
 // whenever one has met the event and the other not yet, however short the step.
@@ -262,13 +262,20 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
     bool coarse_event = false, fine_event = false;
     state_ = a.start;
     fine = takeAdaptivePath(kFineSubsteps, h, fraction, a.fine_out, fine_event, iterations);
-    const bool capped = cappedWellWithinTolerance(stepLengths(set), h, a.start.step_error);
-    a.coarse_taken = (!fine_event && !capped) || fine == StepStatus::NonFinite;
-    if (!a.coarse_taken) {
-      event = fine_event;
-      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length, !event);
+    a.coarse_taken = false;
+    if (fine_event && fine != StepStatus::NonFinite) {
+      event = true;
+      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length);
       return;
     }
+    if (!fine_event && fine != StepStatus::NonFinite && cappedWellWithinTolerance(stepLengths(set), h, 0.0)) {
+      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length, true);
+      if (cappedWellWithinTolerance(stepLengths(set), h, error)) {
+        event = false;
+        return;
+      }
+    }
+    a.coarse_taken = true;
     // The fine path's State and outputs set aside (swapped: no allocation) while
     // the coarse path is taken, then put back.
     std::swap(state_, a.coarse);

@@ -8,7 +8,9 @@
 // (kRichardsonFactor), else the fine path's answer; a PI controller picks the
 // next length. The fine path is taken first: where it has a nonsmooth event its
 // answer is first order anyway, the coarse path is skipped and the error is
-// estimated from the fine path's own substeps (embeddedEventError). Where every
+// estimated from the fine path's own substeps (embeddedEventError). So too where
+// the step is at dt and that estimate is far within the tolerance
+// (cappedWellWithinTolerance): the coarse path could not lengthen it. Where every
 // contact is open at the step's start (a mechanism of ideal joints, a body in
 // flight) and Settings::max_order > 2, the paths are
 // taken without the projection and, while the estimate is above the tolerance,
@@ -37,8 +39,9 @@ struct AdaptiveStepWorkspace {
   // What the fine path reported (its last substep's outputs), kept while the
   // coarse path is taken after it.
   StepOutputs fine_report;
-  // False when the last attempt's fine path had an event: the coarse path was
-  // not taken (coarse_out and coarse are stale).
+  // False when the last attempt's fine path had an event, or was capped at dt
+  // far within the tolerance: the coarse path was not taken (coarse_out and
+  // coarse are stale).
   bool coarse_taken = true;
   std::vector<double> start_command;  // the commands the planned step starts from (planStep)
   std::vector<double> end_command;    // the commands at the end of the planned step
@@ -118,7 +121,8 @@ bool stepHadEvent(const StepStats& st);
 // the slider-crank's steps 3-fold. Infinite if a state is not finite.
 // as_velocity: the velocity error itself over atol + rtol |u| (weight 1 where the
 // above has h), as the paths' difference of a step without an event counts it:
-// the guard of a step that takes the fine path alone (cappedWellWithinTolerance).
+// the estimate of a step without an event that may keep its fine path alone
+// (cappedWellWithinTolerance).
 double embeddedEventError(const std::vector<std::vector<BodyState>>& substeps, int n, double h, double atol,
                           double rtol, const std::vector<double>& rotation_length, bool as_velocity = false);
 // The Richardson combination y_fine + (y_fine - y_coarse): the fine path's error
@@ -155,11 +159,12 @@ StepLengths stepLengths(const Settings& set);
 // first (then it may not grow).
 double nextStepLength(const StepLengths& lim, double h, double error, double previous_error,
                       bool after_rejection);
-// True if a step of length h is at the largest (dt) and the step kept before it
-// had an error (> 0) at which the controller would have asked for at least twice
-// that length: the cap, not the estimate, sets the length. Such a step takes the
-// fine path alone (Simulator::attemptAdaptiveStep).
-bool cappedWellWithinTolerance(const StepLengths& lim, double h, double previous_error);
+// True if a step of length h is at the largest (dt) and its error estimate
+// `error` is so far within the tolerance that the I controller (nextStepLength
+// without memory) would ask for at least twice h: error <= (kSafety / 2)^2, about
+// 0.2. The cap, not the estimate, then sets the length: such a step keeps its
+// fine path's answer without taking the coarse path (Simulator::attemptAdaptiveStep).
+bool cappedWellWithinTolerance(const StepLengths& lim, double h, double error);
 // The length to try again after a step of length h rejected with error `error` (> 1).
 double retryStepLength(const StepLengths& lim, double h, double error);
 // Smooth steps with an extrapolation tableau (order and step control of

@@ -40,11 +40,11 @@ double nextStepLength(const StepLengths& lim, double h, double error, double pre
   return std::clamp(h * factor, lim.h_min, lim.h_max);
 }
 
-bool cappedWellWithinTolerance(const StepLengths& lim, double h, double previous_error) {
-  // The I controller's length at that error (nextStepLength without memory).
-  const double factor = kSafety * std::pow(std::max(previous_error, kErrorFloor), -1 / kOrder);
+bool cappedWellWithinTolerance(const StepLengths& lim, double h, double error) {
+  // The I controller's factor at that error (nextStepLength without memory).
+  const double factor = kSafety * std::pow(std::max(error, kErrorFloor), -1 / kOrder);
   // h within planStep's rounding of dt: a step cut to end on a time may fall short of it by that.
-  return previous_error > 0 && h >= lim.h_max * (1 - 1e-9) && factor >= 2;
+  return h >= lim.h_max * (1 - 1e-9) && factor >= 2;
 }
 
 double retryStepLength(const StepLengths& lim, double h, double error) {
