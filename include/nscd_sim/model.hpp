@@ -204,7 +204,8 @@ enum class JointWork { None, Moreau };
 //   estimate, a PI controller picks the next length from it (rejecting a step
 //   whose error exceeds the tolerance), and where no contact opened, closed,
 //   stuck or slipped in the step the answer is the Richardson extrapolation of
-//   the two.
+//   the two. A step with such an event, or at dt with the 4 substeps' own
+//   estimate far within the tolerance, takes the 4 alone.
 enum class StepControl { Fixed, Adaptive };
 
 struct Settings {

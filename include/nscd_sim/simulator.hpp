@@ -113,9 +113,11 @@ struct StepStats {
   int halvings = 0;
   // Step control (Settings::step_control): the step's length, s. Adaptive steps
   // also report the attempts rejected before the step was kept, its error
-  // estimate (the scaled difference of its coarse and fine paths, <= 1 but at the
+  // estimate (the scaled difference of its coarse and fine paths, or the fine
+  // path's own estimate where the coarse path was not taken; <= 1 but at the
   // floor dt_min; adaptive_step.hpp) and whether its answer is the Richardson
-  // extrapolation (no contact opened, closed, stuck or slipped in it). The counts
+  // extrapolation (no contact opened, closed, stuck or slipped in it, and the
+  // coarse path taken). The counts
   // and flags above then cover the fine path's substeps (iterations: every solve,
   // the coarse path's and the rejected attempts' included); substeps and halvings
   // those of the substep halved most.
@@ -291,7 +293,8 @@ class Simulator {
 
   StepStatus stepWhole(double h);
   StepStatus stepAdaptive();
-  // adaptive_step.cpp: one path of an adaptive step, and one attempt (both paths).
+  // adaptive_step.cpp: one path of an adaptive step, and one attempt (the fine
+  // path, and the coarse one unless the fine path's own estimate serves).
   StepStatus takeAdaptivePath(int substeps, double h, double fraction, StepOutputs& forces, bool& event,
                               long& iterations);
   StepStatus attemptAdaptiveStep(double h, double fraction, double& error, bool& event, long& iterations);
