@@ -263,16 +263,19 @@ StepStatus Simulator::attemptAdaptiveStep(double h, double fraction, double& err
     state_ = a.start;
     fine = takeAdaptivePath(kFineSubsteps, h, fraction, a.fine_out, fine_event, iterations);
     a.coarse_taken = false;
-    if (fine_event && fine != StepStatus::NonFinite) {
-      event = true;
-      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length);
-      return;
-    }
-    if (!fine_event && fine != StepStatus::NonFinite && cappedWellWithinTolerance(stepLengths(set), h, 0.0)) {
-      error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length, true);
-      if (cappedWellWithinTolerance(stepLengths(set), h, error)) {
-        event = false;
+    if (fine != StepStatus::NonFinite) {
+      if (fine_event) {
+        event = true;
+        error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length);
         return;
+      }
+      const StepLengths lim = stepLengths(set);
+      if (atLargestStep(lim, h)) {
+        error = embeddedEventError(a.fine_substeps, kFineSubsteps, h, set.atol, set.rtol, a.rotation_length, true);
+        if (cappedWellWithinTolerance(lim, h, error)) {
+          event = false;
+          return;
+        }
       }
     }
     a.coarse_taken = true;

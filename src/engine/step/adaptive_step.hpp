@@ -165,6 +165,8 @@ double nextStepLength(const StepLengths& lim, double h, double error, double pre
 // 0.2. The cap, not the estimate, then sets the length: such a step keeps its
 // fine path's answer without taking the coarse path (Simulator::attemptAdaptiveStep).
 bool cappedWellWithinTolerance(const StepLengths& lim, double h, double error);
+// True if h is the largest step (dt), to planStep's rounding.
+bool atLargestStep(const StepLengths& lim, double h);
 // The length to try again after a step of length h rejected with error `error` (> 1).
 double retryStepLength(const StepLengths& lim, double h, double error);
 // Smooth steps with an extrapolation tableau (order and step control of

@@ -40,11 +40,13 @@ double nextStepLength(const StepLengths& lim, double h, double error, double pre
   return std::clamp(h * factor, lim.h_min, lim.h_max);
 }
 
+// h within planStep's rounding of dt: a step cut to end on a time may fall short of it by that.
+bool atLargestStep(const StepLengths& lim, double h) { return h >= lim.h_max * (1 - 1e-9); }
+
 bool cappedWellWithinTolerance(const StepLengths& lim, double h, double error) {
   // The I controller's factor at that error (nextStepLength without memory).
   const double factor = kSafety * std::pow(std::max(error, kErrorFloor), -1 / kOrder);
-  // h within planStep's rounding of dt: a step cut to end on a time may fall short of it by that.
-  return h >= lim.h_max * (1 - 1e-9) && factor >= 2;
+  return atLargestStep(lim, h) && factor >= 2;
 }
 
 double retryStepLength(const StepLengths& lim, double h, double error) {
